@@ -1,0 +1,1 @@
+"""Short-time multibody dynamics: disk wheel, wheelset, bogie (layer 2)."""

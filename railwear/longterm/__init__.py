@@ -1,0 +1,1 @@
+"""Long-term strategies over one wheel state (layer 3)."""
