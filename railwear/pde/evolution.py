@@ -1,0 +1,315 @@
+"""The regularised evolution equation of the wheel radius (paper eq. 4).
+
+    (1 - nu ∂xx) u_T = h(u_xx; u, u_x, v) - epsilon u_xxxx
+
+for the radius deviation ``u(x, T)`` (m) on the periodic angle ``x`` (rad) over the normed life
+time ``T``. Pseudo-spectral in ``x``; ETDRK4 in ``T`` with the stabilising split
+``h = S u_xx + (h - S u_xx)``, the first part exact, the second explicit (``S`` at least the
+largest slope ``∂h/∂u_xx`` met), so that the stiff smoothing of a non-monotone ``h`` does not
+limit the step.
+"""
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from railwear.errors import IllPosedError, NumericalInstabilityError, ScenarioError
+from railwear.pde import etdrk4
+from railwear.pde.forms import BuiltinRate, as_wear_rate
+
+TAIL_GROWTH = 1e3  # growth of the top of the spectrum, over its start, that counts as ill-posed
+
+
+def wavenumbers(n_points):
+    """Non-negative integer wavenumbers (polygon orders) of a real FFT over ``n_points``."""
+    return np.arange(n_points // 2 + 1, dtype=float)
+
+
+def dispersion(a, k, epsilon=0.0, nu=0.0):
+    """Linear growth rate of ``cos(k x)`` for ``∂h/∂u_xx = -a`` (per unit normed time).
+
+    ``σ(k) = (a k² - epsilon k⁴) / (1 + nu k²)``; ``a > 0`` is the anti-diffusive (unstable)
+    case. Broadcasts over its arguments.
+    """
+    k2 = np.asarray(k, float) ** 2
+    return (np.asarray(a, float) * k2 - epsilon * k2**2) / (1.0 + nu * k2)
+
+
+def _check_parameters(u0, t_end, speed, epsilon, nu, n_save):
+    u0 = np.asarray(u0, dtype=float)
+    if u0.ndim not in (1, 2) or u0.shape[-1] < 8 or u0.shape[-1] % 2:
+        raise ScenarioError("u0 must be 1-D or 2-D (batch, angle) with an even number >= 8 of points")
+    if not np.all(np.isfinite(u0)):
+        raise ScenarioError("u0 has non-finite values")
+    for name, value in (("t_end", t_end), ("epsilon", epsilon), ("nu", nu)):
+        if not np.isfinite(value) or value < 0:
+            raise ScenarioError(f"{name} must be finite and >= 0, got {value}")
+    if t_end == 0:
+        raise ScenarioError("t_end must be > 0")
+    speed = np.asarray(speed, dtype=float)
+    if speed.ndim > 1 or not np.all(np.isfinite(speed)) or np.any(speed < 0):
+        raise ScenarioError("speed must be a finite value or 1-D array >= 0 (m/s)")
+    if int(n_save) < 2:
+        raise ScenarioError("n_save must be at least 2")
+    return u0, speed
+
+
+def _batch(u0, speed):
+    """Broadcast ``u0`` and ``speed`` to ``(batch, n)`` and ``(batch,)``; name the batch dimension."""
+    batch_dim = None
+    if speed.ndim == 1:
+        batch_dim = "speed"
+    elif u0.ndim == 2:
+        batch_dim = "member"
+    n_rows = max(u0.shape[0] if u0.ndim == 2 else 1, speed.size if speed.ndim == 1 else 1)
+    u = np.broadcast_to(np.atleast_2d(u0), (n_rows, u0.shape[-1]))
+    if u0.ndim == 2 and u0.shape[0] != n_rows:
+        raise ScenarioError(f"u0 has {u0.shape[0]} rows but speed has {speed.size} values")
+    return np.array(u), np.broadcast_to(speed, (n_rows,)).astype(float), batch_dim
+
+
+def _curvatures(v, k):
+    return np.fft.irfft(-(k**2) * v, axis=-1)
+
+
+def _max_slope(form, s, u, ux, speeds):
+    """Largest ``∂h/∂u_xx`` per row over the present curvatures and a band four times as wide."""
+    out = np.empty(len(speeds))
+    for b, speed in enumerate(speeds):
+        reach = 4 * max(float(np.max(np.abs(s[b]))), 1e-12)
+        grid = np.linspace(-reach, reach, 201)
+        if isinstance(form, BuiltinRate):
+            g = form.at_speed(speed)
+            slopes = np.concatenate([g.slope(s[b]), g.slope(grid)])
+        else:
+            slopes = np.concatenate([form.slope(s[b], speed, u[b], ux[b]),
+                                     form.slope(grid, speed)])
+        out[b] = np.max(slopes)
+    return out
+
+
+def _growth_bound(form, s, u, ux, speeds, k, epsilon, nu):
+    """Largest linear growth rate, frozen at the present curvatures, over the kept orders."""
+    low = np.empty(len(speeds))
+    for b, speed in enumerate(speeds):
+        if isinstance(form, BuiltinRate):
+            low[b] = np.min(form.at_speed(speed).slope(s[b]))
+        else:
+            low[b] = np.min(form.slope(s[b], speed, u[b], ux[b]))
+    return float(np.max(dispersion(-np.minimum(low, 0.0)[:, None], k[None, :], epsilon, nu)))
+
+
+class _Problem:
+    """The discretised equation for one set of rows, with the step-dependent weights."""
+
+    def __init__(self, form, n, speeds, epsilon, nu, dealias, stabilisation):
+        self.form, self.n, self.speeds = form, n, speeds
+        self.epsilon, self.nu = epsilon, nu
+        self.k = wavenumbers(n)
+        kept = n // 3 if dealias else n // 2 - 1
+        self.kept = kept
+        mask = (self.k <= kept).astype(float)
+        self.m_in = np.broadcast_to(-(self.k**2) + 0j, (len(speeds), self.k.size)).copy()
+        self.m_out = np.broadcast_to(mask / (1 + nu * self.k**2) + 0j, self.m_in.shape).copy()
+        self.fixed_stabilisation = stabilisation
+        self.compiled = isinstance(form, BuiltinRate)
+        if self.compiled:
+            self.tables = [form.at_speed(float(v)) for v in speeds]
+
+    def set_stabilisation(self, v):
+        """Choose ``S`` per row from the state ``v`` unless it was given; rebuild the weights' base."""
+        if self.fixed_stabilisation is not None:
+            S = np.full(len(self.speeds), float(self.fixed_stabilisation))
+        else:
+            s, u, ux = self.fields(v)
+            S = np.maximum(_max_slope(self.form, s, u, ux, self.speeds), 0.0)
+        self.S = S
+        k2 = self.k**2
+        self.L = -(self.epsilon * k2**2 + S[:, None] * k2) / (1 + self.nu * k2)
+        if self.compiled:
+            width = max(max(t.poly.size for t in self.tables), 2)
+            poly = np.zeros((len(self.speeds), width))
+            for b, t in enumerate(self.tables):
+                poly[b, : t.poly.size] = t.poly
+            poly[:, 1] -= S
+            self.poly = poly
+            n_tab = max(t.table_value.size for t in self.tables)
+            if n_tab and any(t.table_value.size != n_tab for t in self.tables):
+                raise ScenarioError("h tables of one batch must have the same number of points")
+            self.tab_lo = np.array([t.table_lo for t in self.tables])
+            self.tab_ds = np.array([t.table_ds for t in self.tables])
+            self.tab_val = np.array([t.table_value for t in self.tables]).reshape(len(self.tables), n_tab)
+            self.tab_der = np.array([t.table_slope for t in self.tables]).reshape(len(self.tables), n_tab)
+
+    def fields(self, v):
+        """``u_xx``, ``u``, ``u_x`` on the grid (m/rad², m, m/rad)."""
+        return (_curvatures(v, self.k), np.fft.irfft(v, self.n, axis=-1),
+                np.fft.irfft(1j * self.k * v, self.n, axis=-1))
+
+    def nonlinear_python(self, v):
+        s, u, ux = self.fields(v)
+        g = self.form(s, u, ux, self.speeds[:, None]) - self.S[:, None] * s
+        return np.fft.rfft(g, axis=-1) * self.m_out
+
+    def growth_bound(self, v):
+        s, u, ux = self.fields(v)
+        return _growth_bound(self.form, s, u, ux, self.speeds, self.k[: self.kept + 1],
+                             self.epsilon, self.nu)
+
+    def advance(self, v, co, n_steps, t0, active, stop_time, u_ref, depth_limit, blowup):
+        if self.compiled:
+            return etdrk4.advance_compiled(
+                v, self.n, co.E, co.E2, co.Q, co.f1, co.f2, co.f3, self.m_in, self.m_out,
+                self.poly, self.tab_lo, self.tab_ds, self.tab_val, self.tab_der,
+                n_steps, co.dt, t0, active, stop_time, u_ref, depth_limit, blowup)
+        return etdrk4.advance_python(v, co, self.nonlinear_python, n_steps, t0, active, stop_time,
+                                     u_ref, depth_limit, blowup)
+
+    def tail(self, v):
+        """Largest amplitude per row in the top quarter of the kept orders, and overall."""
+        amp = np.abs(v[:, 1 : self.kept + 1])
+        top = amp[:, int(0.75 * self.kept) :]
+        return top.max(axis=1), amp.max(axis=1)
+
+
+def solve_evolution(
+    u0, t_end, h, speed=0.0, epsilon=0.0, nu=0.0, *, dt=None, n_save=101, dealias=True,
+    stabilisation=None, depth_limit=None, tail_tolerance=1e-3, max_halvings=6, progress=None,
+):
+    """Solve the evolution equation from ``u0`` (m) over normed time ``[0, t_end]``.
+
+    Parameters
+    ----------
+    u0 : array (angle,) or (batch, angle)
+        Radius deviation on an even number of equally spaced angles ``2π j / n`` (m).
+    h : wear-rate form, name, or callable ``h(s, u, ux, speed)`` (see :mod:`railwear.pde.forms`).
+    speed : float or 1-D array
+        Vehicle speed (m/s); an array makes a batch over speeds, advanced together.
+    epsilon, nu : float
+        Regularisation ``-epsilon u_xxxx`` (rad⁴ per unit time) and ``+nu u_xxT`` (rad²).
+    dt : float, optional
+        Time step; by default from the largest linear growth rate met at the start.
+    n_save : int
+        Number of equally spaced output times.
+    dealias : bool
+        2/3-rule dealiasing of the wear rate.
+    stabilisation : float, optional
+        The ``S`` of the split; by default the largest slope ``∂h/∂u_xx`` met.
+    depth_limit : float, optional
+        Stop a row when its most worn spot has lost this depth (m) since ``u0``.
+    tail_tolerance : float
+        The top quarter of the kept orders may grow to this fraction of the largest amplitude
+        (and beyond 1000 times its start) before the run is declared ill-posed.
+    progress : callable, optional
+        Called with the fraction of ``t_end`` done after each output interval.
+
+    Returns an ``xarray.Dataset`` with ``u`` over (``time``, [``speed`` | ``member``], ``angle``)
+    and the stop time per row. Raises :class:`~railwear.errors.IllPosedError` on growth at the grid
+    scale and :class:`~railwear.errors.NumericalInstabilityError` on a blow-up that step halving
+    does not cure; both carry the last good state.
+    """
+    u0, speed = _check_parameters(u0, t_end, speed, epsilon, nu, n_save)
+    if depth_limit is not None and not depth_limit > 0:
+        raise ScenarioError(f"depth_limit must be > 0 (m), got {depth_limit}")
+    form = as_wear_rate(h)
+    u_start, speeds, batch_dim = _batch(u0, speed)
+    n = u_start.shape[-1]
+    problem = _Problem(form, n, speeds, float(epsilon), float(nu), dealias, stabilisation)
+    v = np.fft.rfft(u_start, axis=-1)
+    if epsilon == 0 and nu == 0:
+        s, u, ux = problem.fields(v)
+        if problem.growth_bound(v) > 0:
+            raise IllPosedError(
+                "h decreases with u_xx at the start and neither epsilon nor nu regularises it: "
+                "the equation is ill-posed", last_good=u_start, last_time=0.0)
+    problem.set_stabilisation(v)
+    interval = t_end / (n_save - 1)
+    if dt is None:
+        dt = interval / max(1, math.ceil(interval * problem.growth_bound(v) / 0.05))
+        dt = min(dt, t_end / 200)
+    if not (np.isfinite(dt) and dt > 0):
+        raise ScenarioError(f"dt must be > 0, got {dt}")
+    steps = max(1, math.ceil(interval / dt * (1 - 1e-12)))
+
+    active = np.ones(len(speeds), dtype=bool)
+    stop_time = np.full(len(speeds), np.nan)
+    tail_start, _ = problem.tail(v)
+    _, amp_start = problem.tail(v)
+    tail_ref = np.maximum(tail_start, tail_tolerance * amp_start)
+    scale = max(float(np.max(np.abs(v))), 1e-300)
+    blowup = 1e6 * scale
+    depth = float(depth_limit) if depth_limit is not None else 0.0
+    saved, times = [v.copy()], [0.0]
+    halvings = 0
+    coefficients = etdrk4.etdrk4_coefficients(problem.L, interval / steps)
+    j = 0
+    while j < n_save - 1:
+        t0 = j * interval
+        v_start, active_start = v.copy(), active.copy()
+        status, _ = problem.advance(v, coefficients, steps, t0, active, stop_time, u_start,
+                                    depth, blowup)
+        if status != etdrk4.OK:
+            v, active = v_start, active_start
+            stop_time[active] = np.nan
+            halvings += 1
+            if halvings > max_halvings:
+                raise NumericalInstabilityError(
+                    f"the solution blew up near T = {t0:.4g} even with the step cut to "
+                    f"{interval / steps:.3g}", last_good=np.fft.irfft(v, n, axis=-1), last_time=t0)
+            steps *= 2
+            problem.set_stabilisation(v)
+            coefficients = etdrk4.etdrk4_coefficients(problem.L, interval / steps)
+            continue
+        tail, amp = problem.tail(v)
+        bad = (tail > tail_tolerance * amp) & (tail > TAIL_GROWTH * np.maximum(tail_ref, 1e-300))
+        if np.any(bad):
+            raise IllPosedError(
+                f"growth at the grid scale near T = {t0 + interval:.4g}: the equation is ill-posed "
+                "or under-resolved (raise epsilon or nu, or the number of points)",
+                last_good=np.fft.irfft(v_start, n, axis=-1), last_time=t0)
+        j += 1
+        if not np.any(active):
+            saved.append(v.copy())
+            times.append(float(np.nanmax(stop_time)))
+            break
+        saved.append(v.copy())
+        times.append(j * interval)
+        if progress is not None:
+            progress(j / (n_save - 1))
+    if progress is not None:
+        progress(1.0)
+
+    u = np.fft.irfft(np.array(saved), n, axis=-1)
+    angle = 2 * np.pi * np.arange(n) / n
+    stop = np.where(np.isnan(stop_time), times[-1], stop_time)
+    return _dataset(u, np.array(times), angle, speeds, batch_dim, stop, problem, form,
+                    interval / steps, dealias, depth_limit)
+
+
+def _dataset(u, times, angle, speeds, batch_dim, stop, problem, form, dt, dealias, depth_limit):
+    coords = {
+        "time": ("time", times, {"units": "1", "long_name": "normed life time"}),
+        "angle": ("angle", angle, {"units": "rad", "long_name": "angle round the wheel"}),
+    }
+    u_attrs = {"units": "m", "long_name": "radius deviation from the nominal radius"}
+    stop_attrs = {"units": "1", "long_name": "normed time at which the run stopped"}
+    if batch_dim is None:
+        data = {"u": (("time", "angle"), u[:, 0, :], u_attrs),
+                "stop_time": ((), stop[0], stop_attrs)}
+        coords["speed"] = ((), speeds[0], {"units": "m s-1", "long_name": "vehicle speed"})
+    else:
+        data = {"u": (("time", batch_dim, "angle"), u, u_attrs),
+                "stop_time": ((batch_dim,), stop, stop_attrs)}
+        if batch_dim == "speed":
+            coords["speed"] = ("speed", speeds, {"units": "m s-1", "long_name": "vehicle speed"})
+        else:
+            coords["member"] = ("member", np.arange(len(speeds)), {"long_name": "batch member"})
+            coords["speed"] = ((), speeds[0], {"units": "m s-1", "long_name": "vehicle speed"})
+    attrs = {
+        "h_form": form.name, "epsilon": problem.epsilon, "nu": problem.nu, "time_step": dt,
+        "dealias": int(dealias), "stabilisation": float(np.max(problem.S)),
+        "depth_limit": float(depth_limit) if depth_limit is not None else 0.0,
+        "method": "pseudo-spectral Fourier, ETDRK4 (Kassam & Trefethen 2005)",
+    }
+    return xr.Dataset(data, coords=coords, attrs=attrs)
