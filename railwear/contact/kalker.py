@@ -1,0 +1,184 @@
+"""Kalker's creepage coefficients and the linear theory of rolling contact.
+
+Linear theory (Kalker 1967; 1990, App. E), creepages ξ (longitudinal), η (lateral), φ (spin,
+1/m), shear modulus G, ``c = sqrt(a b)``:
+
+    Fx = -G c² C11 ξ
+    Fy = -G c² C22 η - G c³ C23 φ
+    Mz =  G c³ C23 η - G c⁴ C33 φ
+
+Coefficients: Kalker's table (1990, Table E.3) at a/b and b/a = 0.1, 0.2, ..., 1 and Poisson
+ratios 0, 0.25, 0.5. Between rows the table is interpolated linearly in ``g = min(a/b, b/a)``,
+between Poisson ratios by the parabola through ``1/C`` at the three tabulated ratios (the scheme
+of the CONTACT program). Below g = 0.1 Kalker's slender-ellipse asymptotes are used, scaled by a
+constant so that they meet the table at g = 0.1: the raw asymptotes differ from the tabulated
+g = 0.1 values by up to 5 %, and railwear keeps the coefficients continuous (CONTACT jumps).
+
+C33 is not in CONTACT's table. Its Poisson interpolation is the parabola through C itself: for
+patches long in the rolling direction C33 tends to ``π/4 (1-2ν)/(1-ν)``, which vanishes at
+ν = 0.5, so 1/C33 is singular there and the parabola through 1/C overshoots (non-monotone in ν
+by 1.3 % at b/a = 0.1); the parabola through C is monotone on every tabulated row.
+
+C33 for b/a < 0.1 (ellipse long in the rolling direction): the coefficient tends to the limit
+``π/4 (1-2ν)/(1-ν)``; railwear closes the gap between the tabulated g = 0.1 value and that limit
+linearly in ``1/Λ``, ``Λ = ln(16/g²)``, the variable of Kalker's expansions. This closure is
+railwear's, not Kalker's.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from railwear.contact._checks import as_float_array, poisson_ratio, positive, scalar_or_array
+
+__all__ = ["kalker_coefficients", "linear_creep_forces", "LinearCreepForces", "KALKER_TABLE"]
+
+_NU_NODES = (0.0, 0.25, 0.5)
+_G_NODES = np.round(np.arange(1, 11) * 0.1, 12)
+
+# Kalker's Table E.3. Index [case][row][coefficient][nu]: case 0 is a/b <= 1 (g = a/b), case 1
+# is a/b > 1 (g = b/a); rows g = 0.1 ... 1.0; coefficients C11, C22, C23, C33; nu = 0, 0.25, 0.5.
+KALKER_TABLE = np.array(
+    [
+        [  # a/b <= 1, g = a/b
+            [[2.51, 3.31, 4.85], [2.51, 2.52, 2.53], [0.334, 0.473, 0.731], [6.42, 8.28, 11.7]],
+            [[2.59, 3.37, 4.81], [2.59, 2.63, 2.66], [0.483, 0.603, 0.809], [3.46, 4.27, 5.66]],
+            [[2.68, 3.44, 4.80], [2.68, 2.75, 2.81], [0.607, 0.715, 0.889], [2.49, 2.96, 3.72]],
+            [[2.78, 3.53, 4.82], [2.78, 2.88, 2.98], [0.720, 0.823, 0.977], [2.02, 2.32, 2.77]],
+            [[2.88, 3.62, 4.83], [2.88, 3.01, 3.14], [0.827, 0.929, 1.07], [1.74, 1.93, 2.22]],
+            [[2.98, 3.72, 4.91], [2.98, 3.14, 3.31], [0.930, 1.03, 1.18], [1.56, 1.68, 1.86]],
+            [[3.09, 3.81, 4.97], [3.09, 3.28, 3.48], [1.03, 1.14, 1.29], [1.43, 1.50, 1.60]],
+            [[3.19, 3.91, 5.05], [3.19, 3.41, 3.65], [1.13, 1.25, 1.40], [1.34, 1.37, 1.42]],
+            [[3.29, 4.01, 5.12], [3.29, 3.54, 3.82], [1.23, 1.36, 1.51], [1.27, 1.27, 1.27]],
+            [[3.40, 4.12, 5.20], [3.40, 3.67, 3.98], [1.33, 1.47, 1.63], [1.21, 1.19, 1.16]],
+        ],
+        [  # a/b > 1, g = b/a
+            [[10.7, 11.7, 12.9], [10.7, 12.8, 16.0], [12.2, 14.6, 18.0], [0.795, 0.526, 0.228]],
+            [[6.96, 7.78, 8.82], [6.96, 8.14, 9.79], [5.72, 6.63, 7.89], [0.828, 0.601, 0.341]],
+            [[5.57, 6.34, 7.34], [5.57, 6.40, 7.51], [3.79, 4.32, 5.01], [0.868, 0.674, 0.446]],
+            [[4.84, 5.57, 6.57], [4.84, 5.48, 6.31], [2.88, 3.24, 3.70], [0.912, 0.747, 0.549]],
+            [[4.37, 5.10, 6.11], [4.37, 4.90, 5.56], [2.35, 2.62, 2.96], [0.958, 0.819, 0.650]],
+            [[4.06, 4.78, 5.80], [4.06, 4.50, 5.04], [2.01, 2.23, 2.50], [1.01, 0.892, 0.751]],
+            [[3.82, 4.54, 5.58], [3.82, 4.21, 4.67], [1.76, 1.95, 2.18], [1.05, 0.965, 0.852]],
+            [[3.65, 4.36, 5.42], [3.65, 3.99, 4.39], [1.58, 1.75, 1.94], [1.10, 1.04, 0.954]],
+            [[3.51, 4.22, 5.30], [3.51, 3.81, 4.16], [1.44, 1.59, 1.77], [1.16, 1.11, 1.06]],
+            [[3.40, 4.12, 5.20], [3.40, 3.67, 3.98], [1.33, 1.47, 1.63], [1.21, 1.19, 1.16]],
+        ],
+    ]
+)
+
+
+def _lagrange_nu(v0, v25, v50, nu):
+    """Parabola through values at nu = 0, 0.25, 0.5 (Lagrange form; exact at the nodes)."""
+    return 8.0 * (nu - 0.25) * (nu - 0.5) * v0 - 16.0 * nu * (nu - 0.5) * v25 + 8.0 * nu * (nu - 0.25) * v50
+
+
+def _poisson_parabola(c0, c25, c50, nu):
+    """Parabola through 1/C at nu = 0, 0.25, 0.5, returned as C (CONTACT's scheme)."""
+    return 1.0 / _lagrange_nu(1.0 / c0, 1.0 / c25, 1.0 / c50, nu)
+
+
+def _asymptotes_a_short(g, nu):
+    """Kalker's asymptotes for a/b = g -> 0 (patch short in the rolling direction)."""
+    lam = np.log(16.0 / g**2)
+    c11 = np.pi**2 / (4.0 * (1.0 - nu)) + 0.0 * g
+    c22 = np.pi**2 / 4.0 + 0.0 * g
+    c23 = np.pi * np.sqrt(g) / (3.0 * (1.0 - nu)) * (1.0 + nu * (0.5 * lam + np.log(4.0) - 5.0))
+    c33 = np.pi**2 / (16.0 * (1.0 - nu) * g)
+    return np.array([c11, c22, c23, c33])
+
+
+def _asymptotes_a_long(g, nu):
+    """Kalker's asymptotes of C11, C22, C23 for b/a = g -> 0 (patch long in the rolling direction)."""
+    lam = np.log(16.0 / g**2)
+    k = 3.0 - np.log(4.0)
+    c11 = 2.0 * np.pi / ((lam - 2.0 * nu) * g) * (1.0 + k / (lam - 2.0 * nu))
+    d = (1.0 - nu) * lam + 2.0 * nu
+    c22 = 2.0 * np.pi / g * (1.0 + (1.0 - nu) * k / d) / d
+    c23 = 2.0 * np.pi / (3.0 * g**1.5 * ((1.0 - nu) * lam - 2.0 + 4.0 * nu))
+    return np.array([c11, c22, c23])
+
+
+_LAMBDA_01 = np.log(16.0 / 0.01)
+
+
+def _node_curves(case, g, nu_node):
+    """Coefficients at one tabulated Poisson ratio, shape (4,) + g.shape, for any g in (0, 1].
+
+    g >= 0.1: linear interpolation of the table; g < 0.1: asymptotic shape matched to the table
+    at g = 0.1 (see module docstring).
+    """
+    j = _NU_NODES.index(nu_node)
+    table = np.array([np.interp(np.maximum(g, 0.1), _G_NODES, KALKER_TABLE[case, :, k, j]) for k in range(4)])
+    below = g < 0.1
+    if not np.any(below):
+        return table
+    gb = g[below]
+    g01 = np.full_like(gb, 0.1)
+    asymptotes = _asymptotes_a_short if case == 0 else _asymptotes_a_long
+    shaped = 4 if case == 0 else 3  # C33 for a/b > 1 is closed separately (module docstring)
+    matched = table[:, below].copy()
+    matched[:shaped] *= asymptotes(gb, nu_node)[:shaped] / asymptotes(g01, nu_node)[:shaped]
+    if case == 1:
+        limit = np.pi / 4.0 * (1.0 - 2.0 * nu_node) / (1.0 - nu_node)
+        matched[3] = limit + (table[3, below] - limit) * _LAMBDA_01 / np.log(16.0 / gb**2)
+    table[:, below] = matched
+    return table
+
+
+def _coefficients(case, g, nu):
+    """Per-node curves in g, then the parabola in the Poisson ratio (through 1/C; C33 through C)."""
+    c0, c25, c50 = (_node_curves(case, g, n) for n in _NU_NODES)
+    out = _poisson_parabola(c0, c25, c50, nu)
+    out[3] = _lagrange_nu(c0[3], c25[3], c50[3], nu)
+    return out
+
+
+def kalker_coefficients(a_over_b, poisson):
+    """Kalker's creepage coefficients (C11, C22, C23, C33) [-] for semi-axis ratio a/b and ν.
+
+    ``a`` is the semi-axis along rolling. Vectorised over broadcast ``a_over_b`` (> 0) and
+    ``poisson`` (in [0, 0.5)). Reproduces Kalker's Table E.3 at its nodes; see the module
+    docstring for interpolation and the asymptotic range.
+    """
+    aob = positive(a_over_b, "a_over_b")
+    nu = poisson_ratio(poisson, "poisson")
+    aob, nu = np.broadcast_arrays(aob, nu)
+    aob = aob.astype(float)
+    nu = nu.astype(float)
+    short = aob <= 1.0
+    g = np.where(short, aob, 1.0 / aob)
+    result = np.empty((4,) + aob.shape)
+    for case, sel in ((0, short), (1, ~short)):
+        if np.any(sel):
+            result[:, sel] = _coefficients(case, g[sel], nu[sel])
+    return tuple(scalar_or_array(c) for c in result)
+
+
+@dataclass(frozen=True)
+class LinearCreepForces:
+    """Kalker linear-theory creep forces: Fx, Fy [N], Mz [N m] (sign convention in module doc)."""
+
+    Fx: np.ndarray
+    Fy: np.ndarray
+    Mz: np.ndarray
+
+
+def linear_creep_forces(a, b, xi, eta, phi, shear_modulus, poisson):
+    """Kalker's linear creep forces for semi-axes a (rolling), b [m] and creepages ξ, η [-], φ [1/m].
+
+    Valid for small creepage (full adhesion); shear_modulus [Pa]. Vectorised.
+    """
+    a = positive(a, "a")
+    b = positive(b, "b")
+    G = positive(shear_modulus, "shear_modulus")
+    xi = as_float_array(xi, "xi")
+    eta = as_float_array(eta, "eta")
+    phi = as_float_array(phi, "phi")
+    c11, c22, c23, c33 = (np.asarray(c) for c in kalker_coefficients(a / b, poisson))
+    c2 = a * b
+    c3 = c2 * np.sqrt(c2)
+    Fx = -G * c2 * c11 * xi
+    Fy = -G * c2 * c22 * eta - G * c3 * c23 * phi
+    Mz = G * c3 * c23 * eta - G * c2 * c2 * c33 * phi
+    return LinearCreepForces(Fx=scalar_or_array(Fx), Fy=scalar_or_array(Fy), Mz=scalar_or_array(Mz))
