@@ -1,1 +1,20 @@
-"""Short-time multibody dynamics: disk wheel, wheelset, bogie (layer 2)."""
+"""Short-time multibody dynamics: disk wheel, wheelset, bogie (layer 2).
+
+- ``linear_critical_speed``: closed-form critical speed of the linear wheelset;
+- ``critical_speed(model)``: from the eigenvalue crossing of ``model.state_matrix(speed)``;
+- ``WheelsetModel``, ``DiskWheelModel``: frozen, validated model dataclasses;
+- ``railwear.dynamics.integrators.integrate``: the compiled integrators (Dormand-Prince 5(4),
+  Rosenbrock 2(3)) with the model right-hand sides of ``railwear.dynamics.kernels`` in the loop.
+"""
+
+from railwear.dynamics.linear import critical_speed, linear_critical_speed, max_real_part, wheelset_state_matrix
+from railwear.dynamics.models import DiskWheelModel, WheelsetModel
+
+__all__ = [
+    "DiskWheelModel",
+    "WheelsetModel",
+    "critical_speed",
+    "linear_critical_speed",
+    "max_real_part",
+    "wheelset_state_matrix",
+]

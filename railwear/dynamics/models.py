@@ -1,0 +1,368 @@
+"""The dynamics models as frozen, validated dataclasses (SI units throughout).
+
+Each model knows its compiled kernel (``kind``), packs its parameters into the float64 array the
+kernels read (``params``), gives its initial state and, where it has one, its linear state matrix.
+Bad values raise ``railwear.errors.ScenarioError`` with a one-line message naming the field.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+from scipy.optimize import brentq
+
+from railwear.dynamics import kernels as k
+from railwear.dynamics.linear import wheelset_state_matrix
+from railwear.errors import ScenarioError
+
+__all__ = ["WheelsetModel", "DiskWheelModel"]
+
+
+def _number(model, name):
+    value = getattr(model, name)
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ScenarioError(f"{name}: must be a number, got {value!r}") from None
+    if math.isnan(value):
+        raise ScenarioError(f"{name}: must be a number, got nan")
+    return value
+
+
+def _check(model, positive=(), nonnegative=(), finite=()):
+    """Validate fields: ``positive`` > 0 and finite, ``nonnegative`` >= 0 (may be inf), ``finite``."""
+    for name in positive:
+        value = _number(model, name)
+        if not (value > 0.0 and math.isfinite(value)):
+            raise ScenarioError(f"{name}: must be a positive finite number, got {value!r}")
+    for name in nonnegative:
+        value = _number(model, name)
+        if value < 0.0:
+            raise ScenarioError(f"{name}: must not be negative, got {value!r}")
+    for name in finite:
+        value = _number(model, name)
+        if not math.isfinite(value):
+            raise ScenarioError(f"{name}: must be finite, got {value!r}")
+
+
+@dataclass(frozen=True)
+class WheelsetModel:
+    """Suspended wheelset on straight track: lateral displacement and yaw (REFERENCES.md, Dynamics).
+
+    Conical wheels (``conicity``), Kalker's linear creep coefficients ``f11, f22`` [N],
+    ``f23`` [N m], ``f33`` [N m^2] per wheel, Johnson-Vermeulen saturation at
+    ``friction_coefficient * wheel_load`` (``inf``: none), flange contact as a linear spring
+    outside the dead band ``|y| <= flange_clearance``. The frame moves at ``speed`` [m/s].
+    """
+
+    mass: float
+    yaw_inertia: float
+    lateral_stiffness: float
+    yaw_stiffness: float
+    f11: float
+    f22: float
+    half_gauge: float
+    rolling_radius: float
+    conicity: float
+    speed: float
+    f23: float = 0.0
+    f33: float = 0.0
+    lateral_damping: float = 0.0
+    yaw_damping: float = 0.0
+    wheel_load: float = 50e3
+    friction_coefficient: float = math.inf
+    flange_clearance: float = math.inf
+    flange_stiffness: float = 0.0
+    initial_lateral_displacement: float = 1e-3
+    initial_yaw_angle: float = 0.0
+    initial_lateral_velocity: float = 0.0
+    initial_yaw_rate: float = 0.0
+
+    kind = k.KIND_WHEELSET
+    n_states = 4
+    default_atol = 1e-10
+
+    def __post_init__(self):
+        _check(
+            self,
+            positive=("mass", "yaw_inertia", "half_gauge", "rolling_radius", "speed", "wheel_load"),
+            nonnegative=(
+                "lateral_stiffness", "yaw_stiffness", "f11", "f22", "f33", "conicity", "lateral_damping",
+                "yaw_damping", "flange_stiffness",
+            ),
+            finite=(
+                "lateral_stiffness", "yaw_stiffness", "f11", "f22", "f23", "f33", "conicity",
+                "lateral_damping", "yaw_damping", "flange_stiffness", "initial_lateral_displacement",
+                "initial_yaw_angle", "initial_lateral_velocity", "initial_yaw_rate",
+            ),
+        )
+        for name in ("friction_coefficient", "flange_clearance"):
+            if not _number(self, name) > 0.0:
+                raise ScenarioError(f"{name}: must be positive (inf to switch it off), got {getattr(self, name)!r}")
+
+    def params(self, speed=None) -> np.ndarray:
+        """Parameter array for ``kernels.wheelset_rhs`` (``speed`` overrides the model's)."""
+        p = np.zeros(k.WS_N_PARAMS)
+        p[k.WS_SPEED] = self.speed if speed is None else speed
+        p[k.WS_MASS] = self.mass
+        p[k.WS_YAW_INERTIA] = self.yaw_inertia
+        p[k.WS_LATERAL_STIFFNESS] = self.lateral_stiffness
+        p[k.WS_YAW_STIFFNESS] = self.yaw_stiffness
+        p[k.WS_LATERAL_DAMPING] = self.lateral_damping
+        p[k.WS_YAW_DAMPING] = self.yaw_damping
+        p[k.WS_F11] = self.f11
+        p[k.WS_F22] = self.f22
+        p[k.WS_F23] = self.f23
+        p[k.WS_F33] = self.f33
+        p[k.WS_HALF_GAUGE] = self.half_gauge
+        p[k.WS_ROLLING_RADIUS] = self.rolling_radius
+        p[k.WS_CONICITY] = self.conicity
+        p[k.WS_WHEEL_LOAD] = self.wheel_load
+        p[k.WS_FRICTION] = self.friction_coefficient
+        p[k.WS_FLANGE_CLEARANCE] = self.flange_clearance
+        p[k.WS_FLANGE_STIFFNESS] = self.flange_stiffness
+        return p
+
+    def surface(self) -> np.ndarray:
+        return np.zeros(0)
+
+    def initial_state(self) -> np.ndarray:
+        return np.array(
+            [self.initial_lateral_displacement, self.initial_yaw_angle, self.initial_lateral_velocity, self.initial_yaw_rate],
+            dtype=float,
+        )
+
+    def state_matrix(self, speed=None) -> np.ndarray:
+        """Linearisation about the centred rolling state at ``speed`` (default the model's)."""
+        return wheelset_state_matrix(
+            self.speed if speed is None else speed,
+            self.mass,
+            self.yaw_inertia,
+            self.lateral_stiffness,
+            self.yaw_stiffness,
+            self.f11,
+            self.f22,
+            self.half_gauge,
+            self.rolling_radius,
+            self.conicity,
+            f23=self.f23,
+            f33=self.f33,
+            lateral_damping=self.lateral_damping,
+            yaw_damping=self.yaw_damping,
+        )
+
+    def klingel_wavelength(self) -> float:
+        """Klingel's kinematic wavelength ``2 pi sqrt(r0 e / lam)`` [m]."""
+        return 2.0 * math.pi * math.sqrt(self.rolling_radius * self.half_gauge / self.conicity)
+
+
+@dataclass(frozen=True, eq=False)
+class DiskWheelModel:
+    """Disk wheel of paper Fig. 5: vertical and rotational motion of a wheel rolling at ``speed``.
+
+    The wheel (``wheel_mass``, polar ``wheel_inertia``) hangs from a primary spring-damper under a
+    ``sprung_mass`` (``None``: a rigid frame). The rail is rigid (``rail_mass=None``) or a mass on
+    a pad-sleeper spring-damper (the P2 resonance). Hertzian contact ``N = k_H delta^(3/2)``
+    (``hertz_constant`` [N/m^1.5]) carrying ``static_load`` [N] at rest, no tension (N >= 0).
+    ``f11`` [N] is Kalker's longitudinal coefficient at the static load; it scales with
+    ``(N/W)^(2/3)``. ``traction_torque`` [N m] sets the creepage. ``radius_deviation`` holds
+    ``u`` [m] at the angles ``2 pi j / n`` (``None``: round wheel); the contact reads its mean
+    over ``+- patch_half_length / radius`` about the contact angle.
+    """
+
+    speed: float
+    radius: float
+    wheel_mass: float
+    wheel_inertia: float
+    static_load: float
+    hertz_constant: float
+    primary_stiffness: float
+    f11: float
+    primary_damping: float = 0.0
+    sprung_mass: float | None = None
+    rail_mass: float | None = None
+    pad_stiffness: float = 0.0
+    pad_damping: float = 0.0
+    friction_coefficient: float = math.inf
+    traction_torque: float = 0.0
+    patch_half_length: float = 0.0
+    radius_deviation: np.ndarray | None = None
+    initial_angle: float = 0.0
+    initial_lift: float = 0.0
+    initial_vertical_velocity: float = 0.0
+
+    kind = k.KIND_DISK_WHEEL
+    n_states = 8
+    default_atol = 1e-13
+
+    def __post_init__(self):
+        positive = ["speed", "radius", "wheel_mass", "wheel_inertia", "static_load", "hertz_constant"]
+        if self.sprung_mass is not None:
+            positive.append("sprung_mass")
+        if self.rail_mass is not None:
+            positive += ["rail_mass", "pad_stiffness"]
+        _check(
+            self,
+            positive=positive,
+            nonnegative=("primary_stiffness", "primary_damping", "pad_damping", "f11", "patch_half_length"),
+            finite=(
+                "primary_stiffness", "primary_damping", "pad_damping", "f11", "traction_torque", "patch_half_length",
+                "initial_angle", "initial_lift", "initial_vertical_velocity",
+            ),
+        )
+        if not _number(self, "friction_coefficient") > 0.0:
+            raise ScenarioError(f"friction_coefficient: must be positive (inf for no saturation), got {self.friction_coefficient!r}")
+        if self.radius_deviation is not None:
+            u = np.array(self.radius_deviation, dtype=float)
+            if u.ndim != 1 or u.size < 2 or not np.all(np.isfinite(u)):
+                raise ScenarioError("radius_deviation: must be a 1-D array of at least 2 finite values [m]")
+            if np.max(np.abs(u)) >= 0.1 * self.radius:
+                raise ScenarioError("radius_deviation: deviations must stay below 10 % of the radius")
+            u.setflags(write=False)
+            object.__setattr__(self, "radius_deviation", u)
+        if self.patch_half_length >= 0.5 * self.radius:
+            raise ScenarioError(f"patch_half_length: must be well below the radius, got {self.patch_half_length!r}")
+        if self.initial_approach() <= 0.0:
+            raise ScenarioError(
+                f"initial_lift: the wheel starts out of contact (lift {self.initial_lift!r} m exceeds the approach)"
+            )
+        self.steady_creepage()  # validates the traction torque
+
+    @property
+    def static_approach(self) -> float:
+        """Hertzian approach under the static load, ``(W / k_H)^(2/3)`` [m]."""
+        return (self.static_load / self.hertz_constant) ** (2.0 / 3.0)
+
+    @property
+    def contact_stiffness(self) -> float:
+        """Linearised contact stiffness ``dN/d delta = 3 W / (2 delta_0)`` [N/m]."""
+        return 1.5 * self.static_load / self.static_approach
+
+    def surface(self) -> np.ndarray:
+        """``u`` at the nodes followed by its cumulative trapezoidal integral (``kernels``)."""
+        if self.radius_deviation is None:
+            return np.zeros(0)
+        u = self.radius_deviation
+        dx = 2.0 * math.pi / u.size
+        cum = np.concatenate([[0.0], np.cumsum(0.5 * dx * (u + np.roll(u, -1)))])
+        return np.concatenate([u, cum])
+
+    def n_cells(self) -> int:
+        return 0 if self.radius_deviation is None else int(self.radius_deviation.size)
+
+    def filtered_deviation(self, angle) -> float:
+        """The contact filter at ``angle`` [rad]: ``u`` averaged over the patch [m]."""
+        return float(k.patch_average(self.surface(), self.n_cells(), float(angle), self.patch_half_length / self.radius))
+
+    def initial_approach(self) -> float:
+        """Approach ``delta`` at the start [m]; must be positive (wheel in contact)."""
+        ubar = 0.0 if self.radius_deviation is None else self.filtered_deviation(self.initial_angle)
+        return self.static_approach - self.initial_lift + ubar
+
+    def steady_creepage(self) -> float:
+        """Creepage at which the creep force at the static load balances the torque, ``F = T / R0``."""
+        demand = self.traction_torque / self.radius
+        if demand == 0.0:
+            return 0.0
+        limit = self.friction_coefficient * self.static_load
+        if abs(demand) >= limit:
+            raise ScenarioError(
+                f"traction_torque: {self.traction_torque!r} N m needs more than the adhesion limit mu W R0 = {limit * self.radius:.6g} N m"
+            )
+        if self.f11 <= 0.0:
+            raise ScenarioError("f11: must be positive when a traction_torque is applied")
+
+        def residual(xi):
+            force = self.f11 * xi
+            return force * k.saturation_factor(abs(force), limit) - demand
+
+        xi_lin = demand / self.f11
+        if not math.isfinite(limit):
+            return xi_lin
+        return brentq(residual, 0.0, 3.0 * xi_lin, xtol=1e-16, rtol=1e-14)
+
+    def params(self) -> np.ndarray:
+        p = np.zeros(k.DW_N_PARAMS)
+        p[k.DW_SPEED] = self.speed
+        p[k.DW_RADIUS] = self.radius
+        p[k.DW_WHEEL_MASS] = self.wheel_mass
+        p[k.DW_WHEEL_INERTIA] = self.wheel_inertia
+        p[k.DW_SPRUNG_MASS] = 0.0 if self.sprung_mass is None else self.sprung_mass
+        p[k.DW_PRIMARY_STIFFNESS] = self.primary_stiffness
+        p[k.DW_PRIMARY_DAMPING] = self.primary_damping
+        p[k.DW_RAIL_MASS] = 0.0 if self.rail_mass is None else self.rail_mass
+        p[k.DW_PAD_STIFFNESS] = self.pad_stiffness
+        p[k.DW_PAD_DAMPING] = self.pad_damping
+        p[k.DW_HERTZ_CONSTANT] = self.hertz_constant
+        p[k.DW_STATIC_LOAD] = self.static_load
+        p[k.DW_STATIC_APPROACH] = self.static_approach
+        p[k.DW_F11] = self.f11
+        p[k.DW_FRICTION] = self.friction_coefficient
+        p[k.DW_TORQUE] = self.traction_torque
+        p[k.DW_PATCH_HALF_ANGLE] = self.patch_half_length / self.radius
+        p[k.DW_INITIAL_ANGLE] = self.initial_angle
+        p[k.DW_N_CELLS] = self.n_cells()
+        return p
+
+    def initial_state(self) -> np.ndarray:
+        """``[phi, Omega, z_w, z_w', z_s, z_s', z_r, z_r']`` at the start: steady rolling at the
+        steady creepage, the wheel lifted by ``initial_lift`` from static equilibrium."""
+        y = np.zeros(self.n_states)
+        ubar = 0.0 if self.radius_deviation is None else self.filtered_deviation(self.initial_angle)
+        y[1] = self.speed * (1.0 + self.steady_creepage()) / (self.radius + ubar)
+        y[2] = self.initial_lift
+        y[3] = self.initial_vertical_velocity
+        return y
+
+    def vertical_matrices(self):
+        """Mass, damping and stiffness matrices of the vertical motion linearised about static
+        equilibrium, DOFs ``[z_w, z_s?, z_r?]``, with the forcing vector of ``u_bar`` [N/m]."""
+        kc = self.contact_stiffness
+        dofs = ["wheel"] + (["sprung"] if self.sprung_mass is not None else []) + (["rail"] if self.rail_mass is not None else [])
+        n = len(dofs)
+        m, c, kk, f = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n)), np.zeros(n)
+        m[0, 0] = self.wheel_mass
+        kk[0, 0] += self.primary_stiffness + kc
+        c[0, 0] += self.primary_damping
+        f[0] = kc
+        if "sprung" in dofs:
+            i = dofs.index("sprung")
+            m[i, i] = self.sprung_mass
+            kk[i, i] += self.primary_stiffness
+            c[i, i] += self.primary_damping
+            kk[0, i] = kk[i, 0] = -self.primary_stiffness
+            c[0, i] = c[i, 0] = -self.primary_damping
+        if "rail" in dofs:
+            i = dofs.index("rail")
+            m[i, i] = self.rail_mass
+            kk[i, i] += self.pad_stiffness + kc
+            c[i, i] += self.pad_damping
+            kk[0, i] = kk[i, 0] = -kc
+            f[i] = -kc
+        return dofs, m, c, kk, f
+
+    def contact_force_transfer(self, angular_frequency) -> np.ndarray:
+        """Linear transfer function ``N_hat / u_hat`` [N/m] from the filtered radius deviation to
+        the dynamic normal force at ``angular_frequency`` [rad/s] (complex, ``exp(i w t)``)."""
+        dofs, m, c, kk, f = self.vertical_matrices()
+        omega = np.atleast_1d(np.asarray(angular_frequency, dtype=float))
+        out = np.empty(omega.shape, dtype=complex)
+        rail = dofs.index("rail") if "rail" in dofs else None
+        for j, w in enumerate(omega):
+            z = np.linalg.solve(-w * w * m + 1j * w * c + kk, f.astype(complex))
+            relative = (z[rail] if rail is not None else 0.0) - z[0]
+            out[j] = self.contact_stiffness * (relative + 1.0)
+        return out if np.ndim(angular_frequency) else out[0]
+
+
+def model_fields(model) -> dict:
+    """The model's fields as a dict of plain values (arrays as lists), for result attributes."""
+    out = {}
+    for fld in fields(model):
+        value = getattr(model, fld.name)
+        if isinstance(value, np.ndarray):
+            continue
+        out[fld.name] = "none" if value is None else value
+    return out
