@@ -1,0 +1,441 @@
+"""Compiled ODE integrators with the model's right-hand side in the loop (numba, ``cache=True``).
+
+``integrate`` advances ``y' = f(t, y)`` of the model ``kind`` (see ``railwear.dynamics.kernels``)
+with one of two embedded methods and adaptive steps:
+
+- ``METHOD_DOPRI5``: Dormand-Prince 5(4) (Dormand & Prince 1980), local extrapolation, FSAL, the
+  fourth-order continuous extension (Hairer, Norsett & Wanner, Solving ODE I, II.6);
+- ``METHOD_ROSENBROCK``: the linearly implicit Rosenbrock 2(3) pair with ``W = I - h d J``,
+  ``d = 1/(2 + sqrt 2)`` (Shampine & Reichelt 1997, MATLAB's ode23s), L-stable, for stiff
+  creep; Jacobian by forward differences, its own quadratic dense output.
+
+Error control: weighted RMS norm ``|e_i| / (atol + rtol max(|y_i|, |y_new_i|))``. Output either at
+requested times (dense output) or every ``every`` accepted steps. Sign changes of the model's
+event function (contact loss and regain of the disk wheel) are located on the dense output by the
+Illinois method and the step is cut there, so no step straddles the kink.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from railwear.dynamics.kernels import event, rhs
+
+METHOD_DOPRI5 = 0
+METHOD_ROSENBROCK = 1
+
+STATUS_OK = 0
+STATUS_MAX_STEPS = 1
+STATUS_STEP_TOO_SMALL = 2
+STATUS_BLOW_UP = 3
+
+# statistics array layout
+STAT_NFEV = 0
+STAT_NACCEPT = 1
+STAT_NREJECT = 2
+STAT_NJAC = 3
+STAT_NEVENTS = 4
+
+# Dormand-Prince 5(4) tableau
+_C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0])
+_A = np.array(
+    [
+        [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [1 / 5, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [3 / 40, 9 / 40, 0.0, 0.0, 0.0, 0.0],
+        [44 / 45, -56 / 15, 32 / 9, 0.0, 0.0, 0.0],
+        [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0.0, 0.0],
+        [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656, 0.0],
+        [35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84],
+    ]
+)
+_B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0.0])
+_E = np.array([71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40])
+# continuous extension: y(t + s h) = y + h sum_j (K^T P)[:, j] s^(j+1)
+_P = np.array(
+    [
+        [1.0, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
+        [0.0, 0.0, 0.0, 0.0],
+        [0.0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799],
+        [0.0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
+        [0.0, 127303824393 / 49829197408, -318862633887 / 49829197408, 701980252875 / 199316789632],
+        [0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
+        [0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
+    ]
+)
+_ROS_D = 1.0 / (2.0 + math.sqrt(2.0))
+_ROS_E32 = 6.0 + math.sqrt(2.0)
+
+
+@njit(cache=True)
+def _error_norm(err, y, ynew, rtol, atol):
+    acc = 0.0
+    for i in range(y.shape[0]):
+        scale = atol + rtol * max(abs(y[i]), abs(ynew[i]))
+        acc += (err[i] / scale) ** 2
+    return math.sqrt(acc / y.shape[0])
+
+
+@njit(cache=True)
+def _all_finite(y):
+    for i in range(y.shape[0]):
+        if not math.isfinite(y[i]):
+            return False
+    return True
+
+
+@njit(cache=True)
+def _dense(y, h, q, s, out):
+    """``out = y + h sum_j q[:, j] s^(j+1)`` (both methods' interpolants have this form)."""
+    for i in range(y.shape[0]):
+        out[i] = y[i] + h * s * (q[i, 0] + s * (q[i, 1] + s * (q[i, 2] + s * q[i, 3])))
+
+
+@njit(cache=True)
+def _dopri_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, k, q, tmp):
+    """One Dormand-Prince step; fills ``ynew``, ``fnew`` (FSAL), ``err`` and dense coefficients."""
+    n = y.shape[0]
+    k[0, :] = f0
+    for s in range(1, 7):
+        for i in range(n):
+            acc = 0.0
+            for j in range(s):
+                acc += _A[s, j] * k[j, i]
+            tmp[i] = y[i] + h * acc
+        rhs(kind, t + _C[s] * h, tmp, p, surf, k[s])
+    for i in range(n):
+        ynew[i] = tmp[i]  # stage 7 is evaluated at the fifth-order solution
+        fnew[i] = k[6, i]
+        acc = 0.0
+        for j in range(7):
+            acc += _E[j] * k[j, i]
+        err[i] = h * acc
+        for c in range(4):
+            acc = 0.0
+            for j in range(7):
+                acc += k[j, i] * _P[j, c]
+            q[i, c] = acc
+
+
+@njit(cache=True)
+def _lu_factor(a, piv):
+    """In-place LU with partial pivoting; returns False if singular."""
+    n = a.shape[0]
+    for col in range(n):
+        best = col
+        for r in range(col + 1, n):
+            if abs(a[r, col]) > abs(a[best, col]):
+                best = r
+        piv[col] = best
+        if a[best, col] == 0.0:
+            return False
+        if best != col:
+            for c in range(n):
+                a[col, c], a[best, c] = a[best, c], a[col, c]
+        for r in range(col + 1, n):
+            a[r, col] /= a[col, col]
+            for c in range(col + 1, n):
+                a[r, c] -= a[r, col] * a[col, c]
+    return True
+
+
+@njit(cache=True)
+def _lu_solve(lu, piv, b):
+    """Solve in place ``lu x = b`` (``b`` overwritten by ``x``)."""
+    n = lu.shape[0]
+    for i in range(n):
+        j = piv[i]
+        if j != i:
+            b[i], b[j] = b[j], b[i]
+    for i in range(n):
+        for j in range(i):
+            b[i] -= lu[i, j] * b[j]
+    for i in range(n - 1, -1, -1):
+        for j in range(i + 1, n):
+            b[i] -= lu[i, j] * b[j]
+        b[i] /= lu[i, i]
+
+
+@njit(cache=True)
+def _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, ftmp):
+    """Forward-difference Jacobian ``df/dy`` and ``df/dt``; two-sided scale ``max(|y|, atol/rtol)``."""
+    n = y.shape[0]
+    root_eps = 1.4901161193847656e-08
+    for j in range(n):
+        tmp[:] = y
+        delta = root_eps * max(abs(y[j]), atol / rtol)
+        tmp[j] = y[j] + delta
+        delta = tmp[j] - y[j]
+        rhs(kind, t, tmp, p, surf, ftmp)
+        for i in range(n):
+            jac[i, j] = (ftmp[i] - f0[i]) / delta
+    dt = root_eps * max(abs(t), 1e-3)
+    rhs(kind, t + dt, y, p, surf, ftmp)
+    for i in range(n):
+        dfdt[i] = (ftmp[i] - f0[i]) / dt
+
+
+@njit(cache=True)
+def _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, w, piv, k1, k2, tmp, f1):
+    """One step of the Rosenbrock 2(3) pair; returns False if ``W`` is singular."""
+    n = y.shape[0]
+    d = _ROS_D
+    for i in range(n):
+        for j in range(n):
+            w[i, j] = -h * d * jac[i, j]
+        w[i, i] += 1.0
+    if not _lu_factor(w, piv):
+        return False
+    for i in range(n):
+        k1[i] = f0[i] + h * d * dfdt[i]
+    _lu_solve(w, piv, k1)
+    for i in range(n):
+        tmp[i] = y[i] + 0.5 * h * k1[i]
+    rhs(kind, t + 0.5 * h, tmp, p, surf, f1)
+    for i in range(n):
+        k2[i] = f1[i] - k1[i]
+    _lu_solve(w, piv, k2)
+    for i in range(n):
+        k2[i] += k1[i]
+        ynew[i] = y[i] + h * k2[i]
+    rhs(kind, t + h, ynew, p, surf, fnew)
+    for i in range(n):
+        tmp[i] = fnew[i] - _ROS_E32 * (k2[i] - f1[i]) - 2.0 * (k1[i] - f0[i]) + h * d * dfdt[i]
+    _lu_solve(w, piv, tmp)  # tmp = k3
+    c = 1.0 / (1.0 - 2.0 * d)
+    for i in range(n):
+        err[i] = h / 6.0 * (k1[i] - 2.0 * k2[i] + tmp[i])
+        q[i, 0] = c * (k1[i] - 2.0 * d * k2[i])
+        q[i, 1] = c * (k2[i] - k1[i])
+        q[i, 2] = 0.0
+        q[i, 3] = 0.0
+    return True
+
+
+@njit(cache=True)
+def _grow(ts, ys, n_used):
+    ts2 = np.empty(2 * ts.shape[0])
+    ys2 = np.empty((2 * ts.shape[0], ys.shape[1]))
+    ts2[:n_used] = ts[:n_used]
+    ys2[:n_used] = ys[:n_used]
+    return ts2, ys2
+
+
+@njit(cache=True)
+def _locate_event(kind, p, surf, t, y, h, q, g_lo, g_hi, tmp):
+    """Illinois root of the event function on the step's interpolant; returns ``s`` in (0, 1] on
+    the far side of the root (the new sign)."""
+    s_lo, s_hi = 0.0, 1.0
+    side = 0
+    for _ in range(100):
+        s = s_hi - g_hi * (s_hi - s_lo) / (g_hi - g_lo)
+        if not (s > s_lo and s < s_hi):
+            s = 0.5 * (s_lo + s_hi)
+        _dense(y, h, q, s, tmp)
+        g = event(kind, t + s * h, tmp, p, surf)
+        if (g > 0.0) == (g_hi > 0.0) and g != 0.0:
+            s_hi, g_hi = s, g
+            if side == 1:
+                g_lo *= 0.5
+            side = 1
+        else:
+            s_lo, g_lo = s, g
+            if side == -1:
+                g_hi *= 0.5
+            side = -1
+        if (s_hi - s_lo) * abs(h) <= 1e-13 * max(abs(t), abs(h)) + 1e-15:
+            break
+    return s_hi
+
+
+@njit(cache=True)
+def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events, max_norm):
+    """Integrate model ``kind`` from ``t0`` to ``t_end``.
+
+    Returns ``(ts, ys, n_out, status, t_last, y_last, stats, event_t, event_y, event_dir)``:
+    output times and states (first ``n_out`` rows), a status code (``STATUS_*``), the last
+    accepted time and state, counters (``STAT_*``) and the located events (direction +1 when
+    the event function turns positive, e.g. contact regained; -1 contact lost).
+    With ``t_eval`` non-empty the output is at those times (ascending, within ``[t0, t_end]``),
+    otherwise at ``t0``, every ``every`` accepted steps and ``t_end``.
+    """
+    n = y0.shape[0]
+    stats = np.zeros(5, dtype=np.int64)
+    dense_mode = t_eval.shape[0] > 0
+    cap = t_eval.shape[0] if dense_mode else 1024
+    ts = np.empty(cap)
+    ys = np.empty((cap, n))
+    ev_cap = 64
+    ev_t = np.empty(ev_cap)
+    ev_y = np.empty((ev_cap, n))
+    ev_dir = np.empty(ev_cap, dtype=np.int64)
+    n_ev = 0
+
+    y = y0.copy()
+    t = t0
+    ynew = np.empty(n)
+    f0 = np.empty(n)
+    fnew = np.empty(n)
+    err = np.empty(n)
+    tmp = np.empty(n)
+    q = np.zeros((n, 4))
+    k = np.empty((7, n))
+    jac = np.empty((n, n))
+    dfdt = np.empty(n)
+    w = np.empty((n, n))
+    piv = np.empty(n, dtype=np.int64)
+    k1 = np.empty(n)
+    k2 = np.empty(n)
+    f1 = np.empty(n)
+
+    rhs(kind, t, y, p, surf, f0)
+    stats[STAT_NFEV] += 1
+    n_out = 0
+    i_eval = 0
+    if dense_mode:
+        while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t0:
+            ts[n_out] = t_eval[i_eval]
+            ys[n_out] = y
+            n_out += 1
+            i_eval += 1
+    else:
+        ts[0] = t0
+        ys[0] = y
+        n_out = 1
+
+    order = 5.0 if method == METHOD_DOPRI5 else 3.0
+    span = t_end - t0
+    # initial step (Hairer, Norsett & Wanner, II.4)
+    h = h0
+    if h <= 0.0:
+        d0 = 0.0
+        d1 = 0.0
+        for i in range(n):
+            sc = atol + rtol * abs(y[i])
+            d0 += (y[i] / sc) ** 2
+            d1 += (f0[i] / sc) ** 2
+        d0 = math.sqrt(d0 / n)
+        d1 = math.sqrt(d1 / n)
+        h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+        h = min(h, span)
+        for i in range(n):
+            tmp[i] = y[i] + h * f0[i]
+        rhs(kind, t + h, tmp, p, surf, fnew)
+        stats[STAT_NFEV] += 1
+        d2 = 0.0
+        for i in range(n):
+            sc = atol + rtol * abs(y[i])
+            d2 += ((fnew[i] - f0[i]) / sc) ** 2
+        d2 = math.sqrt(d2 / n) / h
+        if max(d1, d2) <= 1e-15:
+            h1 = max(1e-6, h * 1e-3)
+        else:
+            h1 = (0.01 / max(d1, d2)) ** (1.0 / order)
+        h = min(100.0 * h, h1)
+    h = min(h, h_max, span)
+
+    g_old = event(kind, t, y, p, surf) if use_events else 1.0
+    status = STATUS_OK
+    jac_fresh = False
+    fac_max = 5.0
+    steps = 0
+    while t < t_end:
+        if steps >= max_steps:
+            status = STATUS_MAX_STEPS
+            break
+        steps += 1
+        last = False
+        if t + h >= t_end or t + 1.01 * h >= t_end:
+            h = t_end - t
+            last = True
+        if h <= 1e-14 * max(abs(t), abs(span)):
+            status = STATUS_STEP_TOO_SMALL
+            break
+        ok = True
+        if method == METHOD_DOPRI5:
+            _dopri_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, k, q, tmp)
+            stats[STAT_NFEV] += 6
+        else:
+            if not jac_fresh:
+                _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, f1)
+                stats[STAT_NFEV] += n + 1
+                stats[STAT_NJAC] += 1
+                jac_fresh = True
+            ok = _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, w, piv, k1, k2, tmp, f1)
+            stats[STAT_NFEV] += 2
+        if not ok or not _all_finite(ynew) or not _all_finite(err):
+            stats[STAT_NREJECT] += 1
+            h *= 0.25
+            fac_max = 1.0
+            continue
+        en = _error_norm(err, y, ynew, rtol, atol)
+        if en > 1.0:
+            stats[STAT_NREJECT] += 1
+            h *= max(0.2, 0.9 * en ** (-1.0 / order))
+            fac_max = 1.0
+            continue
+        # accepted
+        t_new = t + h
+        if last:
+            t_new = t_end
+        s_end = 1.0
+        hit = 0
+        if use_events:
+            g_new = event(kind, t_new, ynew, p, surf)
+            if (g_new > 0.0) != (g_old > 0.0) and g_new != 0.0:
+                s_end = _locate_event(kind, p, surf, t, y, h, q, g_old, g_new, tmp)
+                hit = 1 if g_new > 0.0 else -1
+                if s_end < 1.0:
+                    t_new = t + s_end * h
+                    _dense(y, h, q, s_end, ynew)
+                    rhs(kind, t_new, ynew, p, surf, fnew)
+                    stats[STAT_NFEV] += 1
+                    last = False
+                g_new = event(kind, t_new, ynew, p, surf)
+            g_old = g_new
+        bad = False
+        for i in range(n):
+            if abs(ynew[i]) > max_norm:
+                bad = True
+        if bad:
+            status = STATUS_BLOW_UP
+            break
+        stats[STAT_NACCEPT] += 1
+        if hit != 0:
+            if n_ev == ev_cap:
+                ev_t2, ev_y2 = _grow(ev_t, ev_y, n_ev)
+                ev_dir2 = np.empty(2 * ev_cap, dtype=np.int64)
+                ev_dir2[:n_ev] = ev_dir[:n_ev]
+                ev_t, ev_y, ev_dir = ev_t2, ev_y2, ev_dir2
+                ev_cap *= 2
+            ev_t[n_ev] = t_new
+            ev_y[n_ev] = ynew
+            ev_dir[n_ev] = hit
+            n_ev += 1
+        if dense_mode:
+            while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
+                s = (t_eval[i_eval] - t) / h
+                _dense(y, h, q, s, ys[n_out])
+                ts[n_out] = t_eval[i_eval]
+                n_out += 1
+                i_eval += 1
+        elif last or stats[STAT_NACCEPT] % every == 0:
+            if n_out == ts.shape[0]:
+                ts, ys = _grow(ts, ys, n_out)
+            ts[n_out] = t_new
+            ys[n_out] = ynew
+            n_out += 1
+        fac = min(fac_max, max(0.2, 0.9 * max(en, 1e-10) ** (-1.0 / order)))
+        fac_max = 5.0
+        t = t_new
+        y[:] = ynew
+        f0[:] = fnew
+        jac_fresh = False
+        if last:
+            break
+        h = min(h * fac, h_max)
+    stats[STAT_NEVENTS] = n_ev
+    return ts, ys, n_out, status, t, y, stats, ev_t[:n_ev], ev_y[:n_ev], ev_dir[:n_ev]
