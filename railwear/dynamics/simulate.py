@@ -1,0 +1,180 @@
+"""``simulate(model, t_end)``: run a dynamics model with the compiled integrators into an xarray Dataset."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from railwear.dynamics import integrators as integ
+from railwear.dynamics import kernels as k
+from railwear.dynamics.models import DiskWheelModel, WheelsetModel, model_fields
+from railwear.errors import NumericalInstabilityError, ScenarioError
+
+__all__ = ["simulate", "METHODS"]
+
+METHODS = {"dopri5": integ.METHOD_DOPRI5, "rosenbrock": integ.METHOD_ROSENBROCK}
+_EPS = np.finfo(float).eps
+
+
+def _options(model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step):
+    try:
+        t_end = float(t_end)
+    except (TypeError, ValueError):
+        raise ScenarioError(f"t_end: must be a number of seconds, got {t_end!r}") from None
+    if not (t_end > 0.0 and math.isfinite(t_end)):
+        raise ScenarioError(f"t_end: must be a positive finite time [s], got {t_end!r}")
+    if method not in METHODS:
+        raise ScenarioError(f"method: must be one of {sorted(METHODS)}, got {method!r}")
+    rtol = float(rtol)
+    if not (100.0 * _EPS <= rtol < 1.0):
+        raise ScenarioError(f"rtol: cannot be met in double precision or is meaningless; need 2.2e-14 <= rtol < 1, got {rtol!r}")
+    atol = model.default_atol if atol is None else float(atol)
+    if not (atol > 0.0 and math.isfinite(atol)):
+        raise ScenarioError(f"atol: must be a positive finite number, got {atol!r}")
+    if not (max_step > 0.0):
+        raise ScenarioError(f"max_step: must be positive, got {max_step!r}")
+    if int(max_steps) < 1:
+        raise ScenarioError(f"max_steps: must be at least 1, got {max_steps!r}")
+    every = 1
+    if t_eval is not None and output_every is not None:
+        raise ScenarioError("output_every: give either t_eval or output_every, not both")
+    if output_every is not None:
+        every = int(output_every)
+        if every < 1:
+            raise ScenarioError(f"output_every: must be a positive number of steps, got {output_every!r}")
+        t_eval = np.zeros(0)
+    else:
+        if t_eval is None:
+            t_eval = np.linspace(0.0, t_end, int(n_output))
+        t_eval = np.asarray(t_eval, dtype=float)
+        if t_eval.ndim != 1 or t_eval.size == 0 or np.any(np.diff(t_eval) <= 0.0):
+            raise ScenarioError("t_eval: must be a non-empty, strictly increasing 1-D array of times [s]")
+        if t_eval[0] < 0.0 or t_eval[-1] > t_end:
+            raise ScenarioError(f"t_eval: times must lie in [0, t_end = {t_end}] s")
+    return t_end, METHODS[method], rtol, atol, t_eval, every
+
+
+def simulate(
+    model,
+    t_end,
+    *,
+    method="dopri5",
+    rtol=1e-8,
+    atol=None,
+    t_eval=None,
+    output_every=None,
+    n_output=1001,
+    max_steps=10_000_000,
+    max_step=math.inf,
+    max_norm=1e6,
+) -> xr.Dataset:
+    """Integrate ``model`` (``WheelsetModel`` or ``DiskWheelModel``) over ``[0, t_end]`` seconds.
+
+    Output at ``t_eval`` (dense output; default ``n_output`` equidistant times) or every
+    ``output_every`` accepted steps. ``method``: ``"dopri5"`` (explicit, default) or
+    ``"rosenbrock"`` (linearly implicit, for stiff creep). Returns a Dataset with the states and
+    the contact quantities; every variable has CF ``units`` and ``long_name``.
+    Raises ``ScenarioError`` for bad options and ``NumericalInstabilityError`` if the solution
+    blows up (any state above ``max_norm``), the step size underflows or ``max_steps`` is hit.
+    """
+    if not isinstance(model, (WheelsetModel, DiskWheelModel)):
+        raise ScenarioError(f"model: expected a WheelsetModel or DiskWheelModel, got {type(model).__name__}")
+    t_end, method_id, rtol, atol, t_eval, every = _options(
+        model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step
+    )
+    p = model.params()
+    surf = model.surface()
+    y0 = model.initial_state()
+    use_events = model.kind == k.KIND_DISK_WHEEL
+    ts, ys, n_out, status, t_last, y_last, stats, ev_t, ev_y, ev_dir = integ.integrate(
+        model.kind, p, surf, y0, 0.0, t_end, rtol, atol, method_id, 0.0, float(max_step), int(max_steps), t_eval,
+        every, use_events, float(max_norm),
+    )
+    if status != integ.STATUS_OK:
+        reason = {
+            integ.STATUS_MAX_STEPS: f"max_steps = {max_steps} reached",
+            integ.STATUS_STEP_TOO_SMALL: "the step size fell to round-off (tolerance cannot be met or the solution is singular)",
+            integ.STATUS_BLOW_UP: f"a state exceeded max_norm = {max_norm:g}",
+        }[status]
+        raise NumericalInstabilityError(
+            f"{type(model).__name__}: {reason} at t = {t_last:.6g} s", last_good=y_last.copy(), last_time=float(t_last)
+        )
+    ts = ts[:n_out].copy()
+    ys = ys[:n_out].copy()
+    if isinstance(model, WheelsetModel):
+        ds = _wheelset_dataset(model, ts, ys, p, surf)
+    else:
+        ds = _disk_wheel_dataset(model, ts, ys, p, surf, ev_t, ev_dir)
+    ds.attrs.update(
+        {
+            "model": type(model).__name__,
+            "method": method,
+            "rtol": rtol,
+            "atol": atol,
+            "rhs_evaluations": int(stats[integ.STAT_NFEV]),
+            "accepted_steps": int(stats[integ.STAT_NACCEPT]),
+            "rejected_steps": int(stats[integ.STAT_NREJECT]),
+            "jacobian_evaluations": int(stats[integ.STAT_NJAC]),
+        }
+    )
+    for name, value in model_fields(model).items():
+        ds.attrs[f"model_{name}"] = value if not isinstance(value, bool) else int(value)
+    return ds
+
+
+def _var(dims, data, units, long_name):
+    return xr.Variable(dims, data, {"units": units, "long_name": long_name})
+
+
+def _wheelset_dataset(model, ts, ys, p, surf):
+    out = k.outputs(model.kind, ts, ys, p, surf, k.WS_N_OUTPUTS)
+    per_wheel = lambda j: np.stack([out[:, j], out[:, 8 + j]], axis=1)  # noqa: E731
+    tw = ("time", "wheel")
+    data = {
+        "lateral_displacement": _var("time", ys[:, 0], "m", "lateral displacement of the wheelset"),
+        "yaw_angle": _var("time", ys[:, 1], "rad", "yaw angle of the wheelset"),
+        "lateral_velocity": _var("time", ys[:, 2], "m s-1", "lateral velocity of the wheelset"),
+        "yaw_rate": _var("time", ys[:, 3], "rad s-1", "yaw rate of the wheelset"),
+        "distance": _var("time", model.speed * ts, "m", "distance travelled"),
+        "longitudinal_creepage": _var(tw, per_wheel(0), "1", "longitudinal creepage"),
+        "lateral_creepage": _var(tw, per_wheel(1), "1", "lateral creepage"),
+        "spin_creepage": _var(tw, per_wheel(2), "m-1", "spin creepage"),
+        "longitudinal_creep_force": _var(tw, per_wheel(3), "N", "longitudinal creep force on the wheel"),
+        "lateral_creep_force": _var(tw, per_wheel(4), "N", "lateral creep force on the wheel"),
+        "spin_creep_moment": _var(tw, per_wheel(5), "N m", "spin creep moment on the wheel"),
+        "frictional_power": _var(tw, per_wheel(6), "W", "frictional power in the contact"),
+        "contact_lateral_position": _var(tw, per_wheel(7), "m", "lateral contact position on the tread, towards the flange"),
+        "contact_angle": _var("time", out[:, 17], "rad", "angle of the contact point on the wheel"),
+        "flange_force": _var("time", out[:, 16], "N", "lateral flange force on the wheelset"),
+    }
+    coords = {
+        "time": _var("time", ts, "s", "time"),
+        "wheel": xr.Variable("wheel", np.array(["left", "right"]), {"long_name": "wheel of the wheelset"}),
+    }
+    return xr.Dataset(data, coords=coords)
+
+
+def _disk_wheel_dataset(model, ts, ys, p, surf, ev_t, ev_dir):
+    out = k.outputs(model.kind, ts, ys, p, surf, k.DW_N_OUTPUTS)
+    data = {
+        "rotation_deviation": _var("time", ys[:, 0], "rad", "wheel rotation angle minus V t / R0"),
+        "angular_velocity": _var("time", ys[:, 1], "rad s-1", "angular velocity of the wheel"),
+        "wheel_displacement": _var("time", ys[:, 2], "m", "vertical displacement of the wheel, upward"),
+        "wheel_velocity": _var("time", ys[:, 3], "m s-1", "vertical velocity of the wheel"),
+        "sprung_displacement": _var("time", ys[:, 4], "m", "vertical displacement of the sprung mass"),
+        "sprung_velocity": _var("time", ys[:, 5], "m s-1", "vertical velocity of the sprung mass"),
+        "rail_displacement": _var("time", ys[:, 6], "m", "vertical displacement of the rail, upward"),
+        "rail_velocity": _var("time", ys[:, 7], "m s-1", "vertical velocity of the rail"),
+        "normal_force": _var("time", out[:, 0], "N", "wheel-rail normal force"),
+        "creepage": _var("time", out[:, 1], "1", "longitudinal creepage"),
+        "creep_force": _var("time", out[:, 2], "N", "longitudinal creep force on the wheel"),
+        "frictional_power": _var("time", out[:, 3], "W", "frictional power in the contact"),
+        "contact_angle": _var("time", out[:, 4], "rad", "angle of the contact point on the wheel"),
+        "radius_deviation_at_contact": _var("time", out[:, 5], "m", "radius deviation averaged over the contact patch"),
+        "approach": _var("time", out[:, 6], "m", "Hertzian approach of wheel and rail"),
+        "event_time": _var("event", np.asarray(ev_t, dtype=float), "s", "time of contact loss or regain"),
+        "event_direction": _var("event", np.asarray(ev_dir, dtype=np.int64), "1", "+1 contact regained, -1 contact lost"),
+    }
+    return xr.Dataset(data, coords={"time": _var("time", ts, "s", "time")})
