@@ -226,7 +226,7 @@ def solve_evolution(
     problem.set_stabilisation(v)
     interval = t_end / (n_save - 1)
     if dt is None:
-        dt = interval / max(1, math.ceil(interval * problem.growth_bound(v) / 0.05))
+        dt = interval / max(1, math.ceil(interval * problem.growth_bound(v) / 0.25))
         dt = min(dt, t_end / 200)
     if not (np.isfinite(dt) and dt > 0):
         raise ScenarioError(f"dt must be > 0, got {dt}")
