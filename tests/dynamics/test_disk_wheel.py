@@ -1,0 +1,128 @@
+"""The disk wheel (paper Fig. 5): linear transfer function, contact filter, energy, contact loss."""
+
+import math
+
+import numpy as np
+import pytest
+
+from railwear.dynamics import DiskWheelModel
+from railwear.dynamics import kernels
+from railwear.dynamics.simulate import simulate
+
+N_CELLS = 512
+ANGLES = 2.0 * np.pi * np.arange(N_CELLS) / N_CELLS
+# a wheel on a rail mass on pads (P2 resonance near 58 Hz) under a sprung mass
+P2 = dict(speed=30.0, radius=0.46, wheel_mass=600.0, wheel_inertia=60.0, static_load=70e3, hertz_constant=1.05e11,
+          primary_stiffness=1e6, primary_damping=4e4, sprung_mass=5000.0, rail_mass=150.0, pad_stiffness=1e8,
+          pad_damping=5e4, f11=1.15e7, friction_coefficient=0.3, patch_half_length=6e-3)
+RIGID = dict(P2, sprung_mass=None, rail_mass=None, pad_stiffness=0.0, pad_damping=0.0, primary_damping=1.5e5)
+
+
+def _harmonic_fit(t, signal, omega):
+    """Complex amplitude (``exp(i omega t)`` convention) and RMS residual of a harmonic fit."""
+    basis = np.stack([np.cos(omega * t), np.sin(omega * t), np.ones_like(t)], axis=1)
+    coef = np.linalg.lstsq(basis, signal, rcond=None)[0]
+    residual = signal - basis @ coef
+    return coef[0] - 1j * coef[1], float(np.sqrt(np.mean(residual**2)))
+
+
+@pytest.mark.parametrize("config, order", [(P2, 3), (P2, 7), (P2, 12), (RIGID, 5)])
+def test_normal_force_follows_the_linear_transfer_function(config, order):
+    amplitude = 1e-7  # small against the static approach (7.6e-5 m)
+    model = DiskWheelModel(**config, radius_deviation=amplitude * np.cos(order * ANGLES))
+    ds = simulate(model, 2.0, rtol=1e-9, n_output=20001)
+    late = ds.time.values > 1.0  # transients have decayed
+    t = ds.time.values[late]
+    omega = order * model.speed / model.radius
+    n_hat, n_res = _harmonic_fit(t, ds.normal_force.values[late], omega)
+    u_hat, _ = _harmonic_fit(t, ds.radius_deviation_at_contact.values[late], omega)
+    assert n_res < 1e-2 * abs(n_hat)  # the force oscillates at n V / R0
+    ratio = (n_hat / u_hat) / model.contact_force_transfer(omega)
+    assert abs(ratio) == pytest.approx(1.0, abs=1e-3)  # amplitude within 0.1 % (issue: 1 %)
+    assert abs(np.angle(ratio)) < 1e-3  # phase within 1 mrad
+
+
+@pytest.mark.parametrize("order", [1, 7, 20])
+def test_contact_filter_is_the_patch_mean(order):
+    """The filter against a brute-force mean of the interpolated ``u`` over +-w, and against the
+    spectral factor ``sinc(n w) sinc(n dx / 2)^2`` of the piecewise-linear ``cos(n x)`` (up to the
+    aliases at ``M -+ n``, each below ``(n dx / 2 pi)^2`` in relative amplitude)."""
+    amplitude = 1e-5
+    model = DiskWheelModel(**P2, radius_deviation=amplitude * np.cos(order * ANGLES))
+    w = model.patch_half_length / model.radius
+    dx = 2 * np.pi / N_CELLS
+    x = np.linspace(0.0, 2 * np.pi, 97)
+    filtered = np.array([model.filtered_deviation(xi) for xi in x])
+    window = np.linspace(-w, w, 20001)
+    nodes, values = np.append(ANGLES, 2 * np.pi), np.append(model.radius_deviation, model.radius_deviation[0])
+    brute = [np.trapezoid(np.interp((xi + window) % (2 * np.pi), nodes, values), window) / (2 * w) for xi in x]
+    np.testing.assert_allclose(filtered, brute, rtol=0, atol=amplitude * 1e-9)
+    sinc = lambda z: math.sin(z) / z  # noqa: E731
+    factor = sinc(order * w) * sinc(order * dx / 2) ** 2
+    alias = 2.0 * (order * dx / (2 * np.pi)) ** 2
+    np.testing.assert_allclose(filtered, amplitude * factor * np.cos(order * x), rtol=0, atol=amplitude * alias)
+
+
+def _energy(ds, model):
+    """Kinetic + spring + contact potential (2/5 k_H delta^(5/2) - W delta) [J]."""
+    d = ds.approach.values
+    return (0.5 * model.wheel_mass * ds.wheel_velocity.values**2
+            + 0.5 * model.sprung_mass * ds.sprung_velocity.values**2
+            + 0.5 * model.rail_mass * ds.rail_velocity.values**2
+            + 0.5 * model.wheel_inertia * ds.angular_velocity.values**2
+            + 0.5 * model.primary_stiffness * (ds.wheel_displacement.values - ds.sprung_displacement.values)**2
+            + 0.5 * model.pad_stiffness * ds.rail_displacement.values**2
+            + 0.4 * model.hertz_constant * np.maximum(d, 0.0)**2.5 - model.static_load * d)
+
+
+def test_energy_is_conserved_without_creep_and_damping_through_contact_loss():
+    # 0.3 m/s upward at the start: the wheel jumps off the rail again and again
+    model = DiskWheelModel(**dict(P2, primary_damping=0.0, pad_damping=0.0, f11=0.0), initial_vertical_velocity=0.3)
+    drifts = {}
+    for rtol in (1e-7, 1e-10):
+        ds = simulate(model, 0.2, rtol=rtol, n_output=4001)
+        energy = _energy(ds, model)
+        static = -0.6 * model.static_load * model.static_approach  # potential at rest
+        drifts[rtol] = np.max(np.abs(energy - energy[0])) / (energy[0] - static)
+        lost = ds.event_direction.values
+        assert lost.size >= 10 and lost[0] == -1
+        assert np.all(lost[1:] == -lost[:-1])  # loss and regain alternate
+        flight = ds.approach.values < 0.0
+        assert flight.any() and np.all(ds.normal_force.values[flight] == 0.0)
+    assert drifts[1e-10] < 1e-6
+    assert drifts[1e-10] < drifts[1e-7] / 100.0  # the drift follows the tolerance
+
+
+def test_events_sit_on_the_contact_boundary():
+    from railwear.dynamics import integrators as integ
+
+    model = DiskWheelModel(**P2, initial_vertical_velocity=0.3)
+    p, surf = model.params(), model.surface()
+    out = integ.integrate(model.kind, p, surf, model.initial_state(), 0.0, 0.05, 1e-9, 1e-13, integ.METHOD_DOPRI5,
+                          0.0, np.inf, 10**6, np.zeros(0), 1, True, 1e6)
+    ev_t, ev_y = out[7], out[8]
+    assert ev_t.size >= 2
+    gaps = [kernels.event(model.kind, t, y, p, surf) for t, y in zip(ev_t, ev_y)]
+    assert np.max(np.abs(gaps)) < 1e-12 * model.static_approach * 1e3
+
+
+def test_traction_torque_sets_the_steady_creepage_and_power():
+    model = DiskWheelModel(**P2, traction_torque=8e3)
+    xi = model.steady_creepage()
+    force = model.traction_torque / model.radius
+    assert force * k_sat_free(model, xi) == pytest.approx(force, rel=1e-9)
+    ds = simulate(model, 0.5, rtol=1e-9, n_output=501)
+    assert ds.creepage.values[-1] == pytest.approx(xi, rel=1e-6)
+    assert ds.creep_force.values[-1] == pytest.approx(force, rel=1e-6)
+    assert ds.frictional_power.values[-1] == pytest.approx(force * xi * model.speed, rel=1e-6)
+    # with creep the contact angle advances at Omega = V (1 + xi) / R0
+    angle = np.unwrap(ds.contact_angle.values)
+    rate = np.polyfit(ds.time.values, angle, 1)[0]
+    assert rate == pytest.approx(model.speed * (1 + xi) / model.radius, rel=1e-8)
+
+
+def k_sat_free(model, xi):
+    """Saturated creep force over the demanded force at the static load (1 at the steady creepage)."""
+    lin = model.f11 * xi
+    return lin * kernels.saturation_factor(abs(lin), model.friction_coefficient * model.static_load) / (
+        model.traction_torque / model.radius)
