@@ -17,6 +17,7 @@ import xarray as xr
 from railwear.errors import IllPosedError, NumericalInstabilityError, ScenarioError
 from railwear.pde import etdrk4
 from railwear.pde.forms import BuiltinRate, as_wear_rate
+from railwear.pde.linear import dispersion
 
 TAIL_GROWTH = 1e3  # growth of the top of the spectrum, over its start, that counts as ill-posed
 
@@ -24,16 +25,6 @@ TAIL_GROWTH = 1e3  # growth of the top of the spectrum, over its start, that cou
 def wavenumbers(n_points):
     """Non-negative integer wavenumbers (polygon orders) of a real FFT over ``n_points``."""
     return np.arange(n_points // 2 + 1, dtype=float)
-
-
-def dispersion(a, k, epsilon=0.0, nu=0.0):
-    """Linear growth rate of ``cos(k x)`` for ``∂h/∂u_xx = -a`` (per unit normed time).
-
-    ``σ(k) = (a k² - epsilon k⁴) / (1 + nu k²)``; ``a > 0`` is the anti-diffusive (unstable)
-    case. Broadcasts over its arguments.
-    """
-    k2 = np.asarray(k, float) ** 2
-    return (np.asarray(a, float) * k2 - epsilon * k2**2) / (1.0 + nu * k2)
 
 
 def _check_parameters(u0, t_end, speed, epsilon, nu, n_save):
