@@ -224,9 +224,11 @@ class DiskWheelModel:
             object.__setattr__(self, "radius_deviation", u)
         if self.patch_half_length >= 0.5 * self.radius:
             raise ScenarioError(f"patch_half_length: must be well below the radius, got {self.patch_half_length!r}")
-        if self.initial_approach() <= 0.0:
+        approach = self.initial_approach()
+        if approach <= 0.0:
             raise ScenarioError(
-                f"initial_lift: the wheel starts out of contact (lift {self.initial_lift!r} m exceeds the approach)"
+                f"initial_lift: the wheel starts above the rail (approach {approach:.3g} m from lift "
+                f"{self.initial_lift!r} m and the radius deviation under the contact)"
             )
         self.steady_creepage()  # validates the traction torque
 

@@ -1,0 +1,77 @@
+"""Bad input gets a one-line ScenarioError naming the field; blow-up an error, never NaNs."""
+
+import math
+
+import numpy as np
+import pytest
+
+from railwear.dynamics import DiskWheelModel, WheelsetModel
+from railwear.dynamics.simulate import simulate
+from railwear.errors import NumericalInstabilityError, ScenarioError
+
+WHEELSET = dict(mass=1022.0, yaw_inertia=678.0, lateral_stiffness=1.823e6, yaw_stiffness=2.0e6, f11=6.4e6,
+                f22=5.9e6, half_gauge=0.7163, rolling_radius=0.4572, conicity=0.05, speed=40.0)
+DISK = dict(speed=30.0, radius=0.46, wheel_mass=600.0, wheel_inertia=60.0, static_load=70e3,
+            hertz_constant=1.05e11, primary_stiffness=1e6, f11=1.15e7)
+
+
+def _raises_naming(field, build):
+    with pytest.raises(ScenarioError) as info:
+        build()
+    message = str(info.value)
+    assert field in message and "\n" not in message
+    return message
+
+
+@pytest.mark.parametrize("field, value", [("mass", 0.0), ("mass", -5.0), ("yaw_inertia", 0.0), ("speed", 0.0),
+                                          ("speed", -10.0), ("rolling_radius", math.nan), ("f11", -1.0),
+                                          ("friction_coefficient", 0.0)])
+def test_wheelset_rejects_bad_fields(field, value):
+    _raises_naming(field, lambda: WheelsetModel(**dict(WHEELSET, **{field: value})))
+
+
+@pytest.mark.parametrize("field, value", [("wheel_mass", 0.0), ("wheel_mass", -600.0), ("sprung_mass", 0.0),
+                                          ("rail_mass", -1.0), ("speed", 0.0), ("speed", -30.0),
+                                          ("hertz_constant", 0.0), ("static_load", -1.0)])
+def test_disk_wheel_rejects_bad_fields(field, value):
+    _raises_naming(field, lambda: DiskWheelModel(**dict(DISK, **{field: value})))
+
+
+def test_no_contact_at_the_start():
+    approach = DiskWheelModel(**DISK).static_approach
+    _raises_naming("initial_lift", lambda: DiskWheelModel(**DISK, initial_lift=1.01 * approach))
+    # a worn spot under the contact lifts the wheel off as well
+    _raises_naming("initial_lift", lambda: DiskWheelModel(**DISK, radius_deviation=np.full(64, -2 * approach)))
+    DiskWheelModel(**DISK, initial_lift=0.99 * approach)  # still touching: fine
+
+
+def test_torque_beyond_adhesion():
+    _raises_naming("traction_torque", lambda: DiskWheelModel(**DISK, friction_coefficient=0.3,
+                                                            traction_torque=0.31 * 70e3 * 0.46))
+
+
+@pytest.mark.parametrize("option, value", [("rtol", 1e-16), ("rtol", 0.0), ("rtol", 2.0), ("atol", 0.0),
+                                           ("atol", -1e-9), ("method", "euler"), ("t_eval", [0.0, 0.2, 0.1]),
+                                           ("output_every", 0)])
+def test_impossible_options(option, value):
+    model = WheelsetModel(**WHEELSET)
+    _raises_naming(option, lambda: simulate(model, 1.0, **{option: value}))
+
+
+@pytest.mark.parametrize("t_end", [0.0, -1.0, math.inf])
+def test_bad_end_time(t_end):
+    _raises_naming("t_end", lambda: simulate(WheelsetModel(**WHEELSET), t_end))
+
+
+def test_blow_up_raises_with_the_last_good_state():
+    # far above the critical speed, no flange, no saturation: exponential growth without bound
+    model = WheelsetModel(**dict(WHEELSET, speed=400.0))
+    with pytest.raises(NumericalInstabilityError) as info:
+        simulate(model, 20.0, max_norm=1.0)
+    assert info.value.last_time is not None and 0.0 < info.value.last_time < 20.0
+    assert np.all(np.isfinite(info.value.last_good)) and np.max(np.abs(info.value.last_good)) <= 1.0
+
+
+def test_step_budget_exhausted_raises():
+    with pytest.raises(NumericalInstabilityError, match="max_steps"):
+        simulate(WheelsetModel(**WHEELSET), 10.0, rtol=1e-12, max_steps=50)
