@@ -3,12 +3,14 @@
 - ``linear_critical_speed``: closed-form critical speed of the linear wheelset;
 - ``critical_speed(model)``: from the eigenvalue crossing of ``model.state_matrix(speed)``;
 - ``WheelsetModel``, ``DiskWheelModel``: frozen, validated model dataclasses;
+- ``simulate(model, t_end, **options)``: a run into an ``xarray.Dataset`` (CF units, long names);
 - ``railwear.dynamics.integrators.integrate``: the compiled integrators (Dormand-Prince 5(4),
   Rosenbrock 2(3)) with the model right-hand sides of ``railwear.dynamics.kernels`` in the loop.
 """
 
 from railwear.dynamics.linear import critical_speed, linear_critical_speed, max_real_part, wheelset_state_matrix
 from railwear.dynamics.models import DiskWheelModel, WheelsetModel
+from railwear.dynamics.simulation import simulate
 
 __all__ = [
     "DiskWheelModel",
@@ -16,5 +18,6 @@ __all__ = [
     "critical_speed",
     "linear_critical_speed",
     "max_real_part",
+    "simulate",
     "wheelset_state_matrix",
 ]

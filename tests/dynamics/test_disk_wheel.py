@@ -7,7 +7,7 @@ import pytest
 
 from railwear.dynamics import DiskWheelModel
 from railwear.dynamics import kernels
-from railwear.dynamics.simulate import simulate
+from railwear.dynamics import simulate
 
 N_CELLS = 512
 ANGLES = 2.0 * np.pi * np.arange(N_CELLS) / N_CELLS

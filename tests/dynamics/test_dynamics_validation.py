@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from railwear.dynamics import DiskWheelModel, WheelsetModel
-from railwear.dynamics.simulate import simulate
+from railwear.dynamics import simulate
 from railwear.errors import NumericalInstabilityError, ScenarioError
 
 WHEELSET = dict(mass=1022.0, yaw_inertia=678.0, lateral_stiffness=1.823e6, yaw_stiffness=2.0e6, f11=6.4e6,
@@ -75,3 +75,12 @@ def test_blow_up_raises_with_the_last_good_state():
 def test_step_budget_exhausted_raises():
     with pytest.raises(NumericalInstabilityError, match="max_steps"):
         simulate(WheelsetModel(**WHEELSET), 10.0, rtol=1e-12, max_steps=50)
+
+
+@pytest.mark.parametrize("model", [WheelsetModel(**WHEELSET), DiskWheelModel(**DISK, traction_torque=2e3)])
+def test_every_variable_has_cf_units_and_long_name(model):
+    ds = simulate(model, 0.05, n_output=11)
+    for name, var in list(ds.data_vars.items()) + [("time", ds.time)]:
+        assert var.attrs.get("units") and var.attrs.get("long_name"), name
+        assert np.all(np.isfinite(var.values)), name
+    assert ds.time.size == 11 and ds.attrs["rhs_evaluations"] > 0

@@ -5,7 +5,7 @@ import pytest
 
 from railwear.dynamics import WheelsetModel, linear_critical_speed, max_real_part
 from railwear.dynamics import kernels
-from railwear.dynamics.simulate import simulate
+from railwear.dynamics import simulate
 
 BASE = dict(mass=1022.0, yaw_inertia=678.0, lateral_stiffness=1.823e6, yaw_stiffness=2.0e6, f11=6.4e6, f22=5.9e6,
             half_gauge=0.7163, rolling_radius=0.4572, conicity=0.05)
