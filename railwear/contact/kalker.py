@@ -28,12 +28,13 @@ railwear's, not Kalker's.
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from railwear.contact._checks import as_float_array, poisson_ratio, positive, scalar_or_array
 
 __all__ = ["kalker_coefficients", "linear_creep_forces", "LinearCreepForces", "KALKER_TABLE"]
 
-_NU_NODES = (0.0, 0.25, 0.5)
+_NU_NODES_ARR = np.array([0.0, 0.25, 0.5])
 _G_NODES = np.round(np.arange(1, 11) * 0.1, 12)
 
 # Kalker's Table E.3. Index [case][row][coefficient][nu]: case 0 is a/b <= 1 (g = a/b), case 1
@@ -68,70 +69,76 @@ KALKER_TABLE = np.array(
 )
 
 
+_LN4 = np.log(4.0)
+_LAMBDA_01 = np.log(16.0 / 0.01)
+
+
+@njit(cache=True)
 def _lagrange_nu(v0, v25, v50, nu):
     """Parabola through values at nu = 0, 0.25, 0.5 (Lagrange form; exact at the nodes)."""
     return 8.0 * (nu - 0.25) * (nu - 0.5) * v0 - 16.0 * nu * (nu - 0.5) * v25 + 8.0 * nu * (nu - 0.25) * v50
 
 
-def _poisson_parabola(c0, c25, c50, nu):
-    """Parabola through 1/C at nu = 0, 0.25, 0.5, returned as C (CONTACT's scheme)."""
-    return 1.0 / _lagrange_nu(1.0 / c0, 1.0 / c25, 1.0 / c50, nu)
+@njit(cache=True)
+def _asymptote(case, k, g, nu):
+    """Kalker's slender-ellipse asymptote of coefficient k (0..3; case 1 only k < 3) at g, nu."""
+    lam = np.log(16.0 / (g * g))
+    if case == 0:  # a/b = g -> 0, patch short in the rolling direction
+        if k == 0:
+            return np.pi**2 / (4.0 * (1.0 - nu))
+        if k == 1:
+            return np.pi**2 / 4.0
+        if k == 2:
+            return np.pi * np.sqrt(g) / (3.0 * (1.0 - nu)) * (1.0 + nu * (0.5 * lam + _LN4 - 5.0))
+        return np.pi**2 / (16.0 * (1.0 - nu) * g)
+    # b/a = g -> 0, patch long in the rolling direction
+    if k == 0:
+        return 2.0 * np.pi / ((lam - 2.0 * nu) * g) * (1.0 + (3.0 - _LN4) / (lam - 2.0 * nu))
+    if k == 1:
+        d = (1.0 - nu) * lam + 2.0 * nu
+        return 2.0 * np.pi / g * (1.0 + (1.0 - nu) * (3.0 - _LN4) / d) / d
+    return 2.0 * np.pi / (3.0 * g**1.5 * ((1.0 - nu) * lam - 2.0 + 4.0 * nu))
 
 
-def _asymptotes_a_short(g, nu):
-    """Kalker's asymptotes for a/b = g -> 0 (patch short in the rolling direction)."""
-    lam = np.log(16.0 / g**2)
-    c11 = np.pi**2 / (4.0 * (1.0 - nu)) + 0.0 * g
-    c22 = np.pi**2 / 4.0 + 0.0 * g
-    c23 = np.pi * np.sqrt(g) / (3.0 * (1.0 - nu)) * (1.0 + nu * (0.5 * lam + np.log(4.0) - 5.0))
-    c33 = np.pi**2 / (16.0 * (1.0 - nu) * g)
-    return np.array([c11, c22, c23, c33])
+@njit(cache=True)
+def _node_value(case, k, j, g):
+    """Coefficient k at the tabulated Poisson ratio j, any g in (0, 1] (table or matched asymptote)."""
+    gt = max(g, 0.1)
+    r = min(int((gt - 0.1) * 10.0 + 1e-9), 8)
+    w = (gt - _G_NODES[r]) / (_G_NODES[r + 1] - _G_NODES[r])
+    value = (1.0 - w) * KALKER_TABLE[case, r, k, j] + w * KALKER_TABLE[case, r + 1, k, j]
+    if g >= 0.1:
+        return value
+    nu = _NU_NODES_ARR[j]
+    if case == 1 and k == 3:  # C33 of long patches: close the gap to its limit linearly in 1/Lambda
+        limit = np.pi / 4.0 * (1.0 - 2.0 * nu) / (1.0 - nu)
+        return limit + (value - limit) * _LAMBDA_01 / np.log(16.0 / (g * g))
+    return value * _asymptote(case, k, g, nu) / _asymptote(case, k, 0.1, nu)
 
 
-def _asymptotes_a_long(g, nu):
-    """Kalker's asymptotes of C11, C22, C23 for b/a = g -> 0 (patch long in the rolling direction)."""
-    lam = np.log(16.0 / g**2)
-    k = 3.0 - np.log(4.0)
-    c11 = 2.0 * np.pi / ((lam - 2.0 * nu) * g) * (1.0 + k / (lam - 2.0 * nu))
-    d = (1.0 - nu) * lam + 2.0 * nu
-    c22 = 2.0 * np.pi / g * (1.0 + (1.0 - nu) * k / d) / d
-    c23 = 2.0 * np.pi / (3.0 * g**1.5 * ((1.0 - nu) * lam - 2.0 + 4.0 * nu))
-    return np.array([c11, c22, c23])
+@njit(cache=True)
+def _kalker_scalar(a_over_b, nu):
+    """(C11, C22, C23, C33) for one a/b and nu (no input checks)."""
+    case = 0 if a_over_b <= 1.0 else 1
+    g = a_over_b if case == 0 else 1.0 / a_over_b
+    out = np.empty(4)
+    for k in range(4):
+        c0 = _node_value(case, k, 0, g)
+        c25 = _node_value(case, k, 1, g)
+        c50 = _node_value(case, k, 2, g)
+        if k < 3:  # CONTACT's parabola through 1/C
+            out[k] = 1.0 / _lagrange_nu(1.0 / c0, 1.0 / c25, 1.0 / c50, nu)
+        else:  # C33: parabola through C (module docstring)
+            out[k] = _lagrange_nu(c0, c25, c50, nu)
+    return out[0], out[1], out[2], out[3]
 
 
-_LAMBDA_01 = np.log(16.0 / 0.01)
-
-
-def _node_curves(case, g, nu_node):
-    """Coefficients at one tabulated Poisson ratio, shape (4,) + g.shape, for any g in (0, 1].
-
-    g >= 0.1: linear interpolation of the table; g < 0.1: asymptotic shape matched to the table
-    at g = 0.1 (see module docstring).
-    """
-    j = _NU_NODES.index(nu_node)
-    table = np.array([np.interp(np.maximum(g, 0.1), _G_NODES, KALKER_TABLE[case, :, k, j]) for k in range(4)])
-    below = g < 0.1
-    if not np.any(below):
-        return table
-    gb = g[below]
-    g01 = np.full_like(gb, 0.1)
-    asymptotes = _asymptotes_a_short if case == 0 else _asymptotes_a_long
-    shaped = 4 if case == 0 else 3  # C33 for a/b > 1 is closed separately (module docstring)
-    matched = table[:, below].copy()
-    matched[:shaped] *= asymptotes(gb, nu_node)[:shaped] / asymptotes(g01, nu_node)[:shaped]
-    if case == 1:
-        limit = np.pi / 4.0 * (1.0 - 2.0 * nu_node) / (1.0 - nu_node)
-        matched[3] = limit + (table[3, below] - limit) * _LAMBDA_01 / np.log(16.0 / gb**2)
-    table[:, below] = matched
-    return table
-
-
-def _coefficients(case, g, nu):
-    """Per-node curves in g, then the parabola in the Poisson ratio (through 1/C; C33 through C)."""
-    c0, c25, c50 = (_node_curves(case, g, n) for n in _NU_NODES)
-    out = _poisson_parabola(c0, c25, c50, nu)
-    out[3] = _lagrange_nu(c0[3], c25[3], c50[3], nu)
-    return out
+@njit(cache=True)
+def _kalker_many(a_over_b, nu, out):
+    for i in range(a_over_b.shape[0]):
+        c = _kalker_scalar(a_over_b[i], nu[i])
+        for k in range(4):
+            out[k, i] = c[k]
 
 
 def kalker_coefficients(a_over_b, poisson):
@@ -144,15 +151,12 @@ def kalker_coefficients(a_over_b, poisson):
     aob = positive(a_over_b, "a_over_b")
     nu = poisson_ratio(poisson, "poisson")
     aob, nu = np.broadcast_arrays(aob, nu)
-    aob = aob.astype(float)
-    nu = nu.astype(float)
-    short = aob <= 1.0
-    g = np.where(short, aob, 1.0 / aob)
-    result = np.empty((4,) + aob.shape)
-    for case, sel in ((0, short), (1, ~short)):
-        if np.any(sel):
-            result[:, sel] = _coefficients(case, g[sel], nu[sel])
-    return tuple(scalar_or_array(c) for c in result)
+    shape = aob.shape
+    flat_aob = np.ascontiguousarray(aob, dtype=float).ravel()
+    flat_nu = np.ascontiguousarray(nu, dtype=float).ravel()
+    out = np.empty((4, flat_aob.size))
+    _kalker_many(flat_aob, flat_nu, out)
+    return tuple(scalar_or_array(c.reshape(shape)) for c in out)
 
 
 @dataclass(frozen=True)

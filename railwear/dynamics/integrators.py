@@ -95,8 +95,19 @@ def _dense(y, h, q, s, out):
 
 
 @njit(cache=True)
-def _dopri_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, k, q, tmp):
-    """One Dormand-Prince step; fills ``ynew``, ``fnew`` (FSAL), ``err`` and dense coefficients."""
+def _dopri_dense(k, q):
+    """Dense-output coefficients ``q = K^T P`` of the last Dormand-Prince step (only when needed)."""
+    for i in range(q.shape[0]):
+        for c in range(4):
+            acc = 0.0
+            for j in range(7):
+                acc += k[j, i] * _P[j, c]
+            q[i, c] = acc
+
+
+@njit(cache=True)
+def _dopri_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, k, tmp):
+    """One Dormand-Prince step; fills ``ynew``, ``fnew`` (FSAL), ``err`` and the stages ``k``."""
     n = y.shape[0]
     k[0, :] = f0
     for s in range(1, 7):
@@ -113,11 +124,6 @@ def _dopri_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, k, q, tmp):
         for j in range(7):
             acc += _E[j] * k[j, i]
         err[i] = h * acc
-        for c in range(4):
-            acc = 0.0
-            for j in range(7):
-                acc += k[j, i] * _P[j, c]
-            q[i, c] = acc
 
 
 @njit(cache=True)
@@ -356,7 +362,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
             break
         ok = True
         if method == METHOD_DOPRI5:
-            _dopri_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, k, q, tmp)
+            _dopri_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, k, tmp)
             stats[STAT_NFEV] += 6
         else:
             if not jac_fresh:
@@ -383,9 +389,13 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
             t_new = t_end
         s_end = 1.0
         hit = 0
+        q_ready = method != METHOD_DOPRI5
         if use_events:
             g_new = event(kind, t_new, ynew, p, surf)
             if (g_new > 0.0) != (g_old > 0.0) and g_new != 0.0:
+                if not q_ready:
+                    _dopri_dense(k, q)
+                    q_ready = True
                 s_end = _locate_event(kind, p, surf, t, y, h, q, g_old, g_new, tmp)
                 hit = 1 if g_new > 0.0 else -1
                 if s_end < 1.0:
@@ -416,6 +426,9 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
             ev_dir[n_ev] = hit
             n_ev += 1
         if dense_mode:
+            if not q_ready and i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
+                _dopri_dense(k, q)
+                q_ready = True
             while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
                 s = (t_eval[i_eval] - t) / h
                 _dense(y, h, q, s, ys[n_out])

@@ -71,7 +71,7 @@ DW_N_OUTPUTS = 7  # see disk_wheel_outputs
 TWO_PI = 2.0 * math.pi
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def saturation_factor(force, limit):
     """Johnson-Vermeulen cubic saturation (Shen, Hedrick & Elkins 1983): factor on linear forces.
 
@@ -86,7 +86,7 @@ def saturation_factor(force, limit):
 
 
 # ---- wheelset -------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _wheel(sign, y, p):
     """Creepages, forces and frictional power of one wheel (``sign`` +1 left at ``+e``, -1 right).
 
@@ -110,7 +110,7 @@ def _wheel(sign, y, p):
     return xi, eta, phi, fx, fy, mz, -v * (fx * xi + fy * eta + mz * phi)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _flange(lateral, p):
     """Flange force [N]: a linear spring outside the dead band ``|y| <= clearance``."""
     d = p[WS_FLANGE_CLEARANCE]
@@ -121,7 +121,7 @@ def _flange(lateral, p):
     return 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def wheelset_rhs(t, y, p, surf, dydt):
     """Suspended wheelset on straight track: state ``[y, psi, y', psi']``.
 
@@ -156,7 +156,7 @@ def wheelset_outputs(t, y, p, surf, out):
 
 
 # ---- disk wheel -----------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def surface_primitive(surf, n, x):
     """Integral of the periodic piecewise-linear ``u`` from 0 to ``x`` [m rad].
 
@@ -175,7 +175,7 @@ def surface_primitive(surf, n, x):
     return periods * surf[2 * n] + surf[n + j] + u0 * s + (u1 - u0) * s * s / (2.0 * dx)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def surface_value(surf, n, x):
     """Piecewise-linear periodic interpolation of ``u`` at angle ``x`` [m]."""
     dx = TWO_PI / n
@@ -187,7 +187,7 @@ def surface_value(surf, n, x):
     return (1.0 - s) * surf[j] + s * surf[(j + 1) % n]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def patch_average(surf, n, x, half_angle):
     """Contact filter: mean of ``u`` over ``[x - w, x + w]``, ``w`` the patch half-angle [m]."""
     if n == 0:
@@ -199,7 +199,7 @@ def patch_average(surf, n, x, half_angle):
     return (hi - lo) / (2.0 * half_angle)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _disk_contact(t, y, p, surf):
     """Contact of the disk wheel: ``(N, creepage, Fx, power, x_c mod 2 pi, u_bar, delta)``.
 
@@ -224,7 +224,7 @@ def _disk_contact(t, y, p, surf):
     return normal, creepage, force, force * creepage * v, xc - math.floor(xc / TWO_PI) * TWO_PI, ubar, delta
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def disk_wheel_rhs(t, y, p, surf, dydt):
     """Disk wheel (paper Fig. 5), state ``[phi, Omega, z_w, z_w', z_s, z_s', z_r, z_r']``.
 
@@ -264,14 +264,14 @@ def disk_wheel_outputs(t, y, p, surf, out):
         out[k] = vals[k]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def disk_wheel_event(t, y, p, surf):
     """Contact event function: the approach ``delta`` [m]; zero at contact loss and regain."""
     return _disk_contact(t, y, p, surf)[6]
 
 
 # ---- test systems ---------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def linear_rhs(t, y, p, surf, dydt):
     """``y' = A y`` with ``n = p[0]`` and ``A = p[1:1+n*n]`` row by row."""
     n = int(p[0])
@@ -282,7 +282,7 @@ def linear_rhs(t, y, p, surf, dydt):
         dydt[i] = acc
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def van_der_pol_rhs(t, y, p, surf, dydt):
     """Van der Pol oscillator ``y'' = mu (1 - y^2) y' - y`` (stiff for large ``mu = p[0]``)."""
     dydt[0] = y[1]

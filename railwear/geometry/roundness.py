@@ -106,3 +106,20 @@ def polygon_spectrum(u, u_initial=None, max_order=None):
         out["max_removed_depth"] = float(np.max(removed))
         out["mean_removed_depth"] = float(np.mean(removed))
     return out
+
+
+# Ratio of the final to the initial peak-to-peak deviation that separates the regimes.
+REGIME_BOUNDS = ((2.5, "polygonalising"), (1.0, "onset"), (0.5, "stable"), (0.0, "smoothing"))
+
+
+def regime(peak_to_peak_initial, peak_to_peak_final):
+    """The regime of the paper's Figs 9-11 from the growth of the out-of-round deviation.
+
+    ``r = final / initial`` peak-to-peak: ``r >= 2.5`` polygonalising, ``1 <= r < 2.5`` onset
+    of instability, ``0.5 <= r < 1`` stable (the mean radius falls, the shape stays),
+    ``r < 0.5`` smoothing.
+    """
+    if peak_to_peak_initial == 0:
+        return "stable" if peak_to_peak_final == 0 else "polygonalising"
+    r = peak_to_peak_final / peak_to_peak_initial
+    return next(name for bound, name in REGIME_BOUNDS if r >= bound)

@@ -1,0 +1,178 @@
+"""The ``railwear`` command (layer 5). Exit status: 0 success, 1 a run failed, 2 bad input."""
+
+import sys
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+
+from railwear.errors import NumericalInstabilityError, RailwearError, ScenarioError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  help="railwear: long-term wear of railway wheels and polygonalisation.")
+
+
+def _fail(message, status):
+    typer.echo(f"railwear: error: {message}", err=True)
+    raise typer.Exit(status)
+
+
+def _parse_range(text, field):
+    """``A:B:STEP`` (inclusive of B) or ``v1,v2,...``."""
+    import numpy as np
+
+    try:
+        if ":" in text:
+            a, b, step = (float(p) for p in text.split(":"))
+            if step <= 0 or b < a:
+                raise ValueError
+            return np.arange(a, b + step / 2, step)
+        return np.array([float(p) for p in text.split(",")])
+    except ValueError:
+        _fail(f"{field}: expected A:B:STEP with STEP > 0 and B >= A, or a list v1,v2,...; got {text!r}", 2)
+
+
+class _Progress:
+    """A rich progress bar on a terminal, a log line every 10 % otherwise."""
+
+    def __init__(self, label):
+        self.label, self.bar, self.last = label, None, -1
+
+    def __enter__(self):
+        if sys.stderr.isatty():
+            from rich.progress import Progress
+
+            self.bar = Progress(transient=True)
+            self.bar.start()
+            self.task = self.bar.add_task(self.label, total=1.0)
+        return self
+
+    def __call__(self, fraction):
+        if self.bar is not None:
+            self.bar.update(self.task, completed=fraction)
+        elif int(fraction * 10) > self.last:
+            self.last = int(fraction * 10)
+            typer.echo(f"{self.label}: {fraction:4.0%}", err=True)
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            self.bar.stop()
+
+
+@app.command()
+def run(
+    scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name")] = None,
+    output: Annotated[Path, typer.Option("-o", "--output", help="output directory")] = Path("railwear-out"),
+    figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
+):
+    """Run a scenario; write DIR/result.nc, summary.txt, summary.json and figures."""
+    from railwear import api, plots, results
+
+    try:
+        sc = api.load_scenario(scenario)
+        with _Progress(f"railwear {sc.name}") as progress:
+            ds = api.run(sc, progress=progress)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    except NumericalInstabilityError as e:
+        kept = ""
+        if e.last_good is not None:
+            import numpy as np
+
+            output.mkdir(parents=True, exist_ok=True)
+            np.save(output / "last_good_state.npy", e.last_good)
+            kept = f"; the last good state (T = {e.last_time:.4g}) is in {output / 'last_good_state.npy'}"
+        _fail(f"{e}{kept}", 1)
+    results.write_netcdf(ds, output / "result.nc")
+    summary = results.write_summary(ds, output)
+    if figures:
+        plots.write_figures(ds, output)
+    typer.echo(results.summary_text(summary), nl=False)
+    typer.echo(f"wrote {output / 'result.nc'}")
+
+
+@app.command()
+def plot(
+    result: Annotated[Path, typer.Argument(help="a result.nc written by 'railwear run'")],
+    output: Annotated[Optional[Path], typer.Option("-o", "--output", help="directory (default: beside RESULT)")] = None,
+):
+    """Draw the figures again from a result file."""
+    from railwear import plots, results
+
+    if not result.is_file():
+        _fail(f"result file {result} does not exist", 2)
+    try:
+        ds = results.read_netcdf(result)
+    except (OSError, ValueError) as e:
+        _fail(f"{result} is not a railwear result: {e}", 2)
+    if "u" not in ds or "regime" not in ds:
+        _fail(f"{result} is not a railwear result (no u or regime variable)", 2)
+    for path in plots.write_figures(ds, output or result.parent):
+        typer.echo(f"wrote {path}")
+
+
+@app.command()
+def stability(
+    scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name")] = None,
+    speeds: Annotated[str, typer.Option(help="speeds in km/h, A:B:STEP or v1,v2,...")] = "20:300:10",
+    orders: Annotated[str, typer.Option(help="polygon orders, A:B:STEP or list")] = "1:30:1",
+    amplitude_um: Annotated[Optional[float], typer.Option(help="crest amplitude (µm); default the scenario's initial rms, 0 for the round wheel")] = None,
+    output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-out"),
+):
+    """Growth rate over speed x polygon order: DIR/stability.nc and stability.png."""
+    from railwear import api, plots, results
+    from railwear.pde import stability_map
+    from railwear.scenario import build, scenario_hash
+
+    v = _parse_range(speeds, "--speeds")
+    n = _parse_range(orders, "--orders")
+    if v.min() <= 0 or n.min() < 1:
+        _fail("--speeds must be > 0 and --orders >= 1", 2)
+    try:
+        sc = api.load_scenario(scenario)
+        amplitude = (sc.initial.rms_um if amplitude_um is None else amplitude_um) * 1e-6
+        if amplitude < 0:
+            raise ScenarioError("--amplitude-um must be >= 0")
+        ds = stability_map(build.wear_rate(sc), v / 3.6, n, sc.solver.epsilon, sc.solver.nu, amplitude)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    ds.attrs.update(scenario_name=sc.name, scenario_hash=scenario_hash(sc))
+    results.write_netcdf(ds, output / "stability.nc")
+    plots.save(plots.stability(ds), output / "stability.png")
+    unstable = ds.growth_rate.max("order") > 0
+    if bool(unstable.any()):
+        first = float(ds.speed.values[unstable.values.argmax()]) * 3.6
+        typer.echo(f"growth from {first:g} km/h (crest amplitude {amplitude * 1e6:g} µm)")
+    else:
+        typer.echo(f"no order grows in {v.min():g}-{v.max():g} km/h (crest amplitude {amplitude * 1e6:g} µm)")
+    typer.echo(f"wrote {output / 'stability.nc'}")
+
+
+@app.command()
+def scenarios():
+    """List the built-in scenarios."""
+    from railwear.scenario import DEFAULT, builtin_names, load_scenario
+
+    for name in builtin_names():
+        sc = load_scenario(name)
+        mark = " (default)" if name == DEFAULT else ""
+        typer.echo(f"{name}{mark}: {sc.description}")
+
+
+@app.command()
+def show(name: Annotated[str, typer.Argument(help="built-in scenario name")]):
+    """Print a built-in scenario as TOML, to start a file from."""
+    from railwear.scenario import builtin_text
+
+    try:
+        typer.echo(builtin_text(name), nl=False)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+
+
+def main():
+    try:
+        app()
+    except RailwearError as e:  # anything a command did not map itself
+        typer.echo(f"railwear: error: {e}", err=True)
+        sys.exit(2 if isinstance(e, ScenarioError) else 1)

@@ -1,0 +1,105 @@
+"""Figures of a result: the paper's Figs 9-11, the polygon spectrum and the stability map (layer 4)."""
+
+from pathlib import Path
+
+import numpy as np
+
+from railwear.results import _atomic
+
+
+def _figure(width, height, rows=1):
+    # The object-oriented Figure needs no pyplot backend: headless and notebook-safe.
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width, height), layout="constrained")
+    return fig, fig.subplots(rows, 1, squeeze=False)[:, 0]
+
+
+def _rows(ds):
+    """``(label, dataset)`` per batch row."""
+    batch = [d for d in ds.u.dims if d not in ("time", "angle")]
+    if not batch:
+        return [(f"{float(ds.speed) * 3.6:g} km/h", ds)]
+    dim = batch[0]
+    return [(f"{float(ds.speed[i]) * 3.6:g} km/h" if dim == "speed" else f"member {i}", ds.isel({dim: i}))
+            for i in range(ds.sizes[dim])]
+
+
+def _title(ds, what):
+    return f"{ds.attrs.get('scenario_name', 'railwear')}: {what}"
+
+
+def profiles(ds):
+    """Initial and final radius deviation over the angle (paper Figs 9 and 10)."""
+    fig, (ax,) = _figure(7, 4)
+    deg = np.degrees(ds.angle.values)
+    for i, (label, d) in enumerate(_rows(ds)):
+        colour = f"C{i % 10}"
+        ax.plot(deg, d.u.isel(time=0).values * 1e6, color=colour, ls="--", lw=1,
+                label=f"{label}, start" if i == 0 or len(_rows(ds)) < 5 else None)
+        ax.plot(deg, d.u.isel(time=-1).values * 1e6, color=colour, lw=1.5, label=f"{label}, end")
+    ax.set(xlabel="angle (deg)", ylabel="radius deviation u (µm)", xlim=(0, 360),
+           title=_title(ds, "initial (dashed) and final radius"))
+    ax.legend(fontsize="small")
+    return fig
+
+
+def evolution(ds):
+    """Radius deviation less its mean over angle and distance (paper Fig. 11)."""
+    rows = _rows(ds)
+    fig, axes = _figure(7, min(2.2 + 2.3 * len(rows), 12), len(rows))
+    for ax, (label, d) in zip(axes, rows):
+        dev = (d.u - d.u.mean("angle")).values * 1e6
+        distance = ds.distance.values if "distance" in ds.coords else ds.time.values
+        mesh = ax.pcolormesh(np.degrees(ds.angle.values), distance, dev, shading="auto", cmap="RdBu_r",
+                             vmin=-np.max(np.abs(dev)), vmax=np.max(np.abs(dev)))
+        fig.colorbar(mesh, ax=ax, label="u - mean (µm)")
+        ax.set(xlabel="angle (deg)", ylabel="distance (km)" if "distance" in ds.coords else "normed time",
+               title=f"{label}")
+    fig.suptitle(_title(ds, "evolution of the out-of-round deviation"))
+    return fig
+
+
+def spectrum(ds):
+    """Roughness level per polygon order at the start and the end."""
+    fig, (ax,) = _figure(7, 4)
+    orders = ds.order.values
+    top = min(40, orders.size)
+    for i, (label, d) in enumerate(_rows(ds)):
+        with np.errstate(divide="ignore"):
+            start = 20 * np.log10(d.amplitude_initial.values[:top] / np.sqrt(2) / 1e-6)
+        ax.plot(orders[:top], start, color=f"C{i % 10}", ls="--", marker=".")
+        ax.plot(orders[:top], d.roughness_level.values[:top], color=f"C{i % 10}", marker="o", label=label)
+    ax.set(xlabel="polygon order", ylabel="roughness level (dB re 1 µm)",
+           title=_title(ds, "spectrum at the start (dashed) and end"))
+    ax.legend(fontsize="small")
+    return fig
+
+
+def stability(map_ds):
+    """Growth rate over speed and polygon order, with its zero contour."""
+    fig, (ax,) = _figure(7, 4)
+    rate = map_ds.growth_rate.values.T
+    limit = max(float(np.max(np.abs(rate))), 1e-30)
+    speed = map_ds.speed.values * 3.6
+    mesh = ax.pcolormesh(speed, map_ds.order.values, rate, shading="auto", cmap="RdBu_r",
+                         vmin=-limit, vmax=limit)
+    if rate.min() < 0 < rate.max() and speed.size > 1:
+        ax.contour(speed, map_ds.order.values, rate, levels=[0.0], colors="k", linewidths=1)
+    fig.colorbar(mesh, ax=ax, label="growth rate (per unit normed life)")
+    ax.set(xlabel="speed (km/h)", ylabel="polygon order",
+           title=f"stability map (crest amplitude {map_ds.attrs.get('amplitude', 0) * 1e6:g} µm)")
+    return fig
+
+
+FIGURES = {"profiles": profiles, "evolution": evolution, "spectrum": spectrum}
+
+
+def save(fig, path):
+    """Save a figure as PNG atomically."""
+    return _atomic(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
+
+
+def write_figures(ds, directory):
+    """Every figure of a result as ``DIRECTORY/NAME.png``; returns the paths."""
+    return [save(make(ds), Path(directory) / f"{name}.png") for name, make in FIGURES.items()]

@@ -1,0 +1,95 @@
+"""Result files: netCDF through h5netcdf written atomically, and the run summary (layer 4)."""
+
+import json
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+
+def _atomic(path, write):
+    """Call ``write(tmp_path)`` on a temporary file beside ``path``, then rename it into place."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+    os.close(fd)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def write_netcdf(ds: xr.Dataset, path):
+    """Write ``ds`` as netCDF 4 (h5netcdf) to ``path`` without ever leaving a half-written file."""
+    return _atomic(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=False))
+
+
+def write_text(text, path):
+    """Write text atomically."""
+    return _atomic(path, lambda tmp: Path(tmp).write_text(text))
+
+
+def read_netcdf(path):
+    """Open a result file fully into memory (the file is closed again)."""
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        return ds.load()
+
+
+def summary(ds: xr.Dataset):
+    """Dominant order, maxima, removed depth (mm) and regime, per speed when batched."""
+    batch = [d for d in ds.regime.dims]
+
+    def rows():
+        if not batch:
+            yield {}, ds
+            return
+        for i in range(ds.sizes[batch[0]]):
+            yield {batch[0]: float(ds[batch[0]][i])}, ds.isel({batch[0]: i})
+
+    out = []
+    for key, d in rows():
+        entry = dict(key)
+        if "speed" in entry:
+            entry["speed_kmh"] = round(entry.pop("speed") * 3.6, 6)
+        else:
+            entry["speed_kmh"] = round(float(d.speed) * 3.6, 6)
+        entry.update({
+            "regime": str(d.regime.values),
+            "dominant_order": int(d.dominant_order),
+            "maxima": int(d.maxima),
+            "max_removed_depth_mm": float(d.removed_depth.isel(time=-1)) * 1e3,
+            "mean_removed_depth_mm": float(d.mean_removed_depth.isel(time=-1)) * 1e3,
+            "peak_to_peak_initial_um": float(d.peak_to_peak_initial) * 1e6,
+            "peak_to_peak_um": float(d.peak_to_peak) * 1e6,
+            "stop_time": float(d.stop_time),
+            "distance_km": float(d.stop_time) * float(ds.attrs.get("life_distance_km", 0.0)),
+        })
+        out.append(entry)
+    return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
+            "railwear_version": ds.attrs.get("railwear_version", ""), "runs": out}
+
+
+def summary_text(s):
+    """A few lines for a person."""
+    lines = [f"scenario {s['scenario']} (railwear {s['railwear_version']})"]
+    for r in s["runs"]:
+        lines.append(
+            f"  {r['speed_kmh']:g} km/h: {r['regime']}, {r['maxima']} maxima, dominant order "
+            f"{r['dominant_order']}, removed {r['max_removed_depth_mm']:.3f} mm at the most worn "
+            f"spot ({r['mean_removed_depth_mm']:.3f} mm mean) after {r['distance_km']:.0f} km; "
+            f"peak-to-peak {r['peak_to_peak_initial_um']:.1f} -> {r['peak_to_peak_um']:.1f} um")
+    return "\n".join(lines) + "\n"
+
+
+def write_summary(ds, directory):
+    """``summary.json`` and ``summary.txt`` in ``directory``; returns the summary."""
+    s = summary(ds)
+    write_text(json.dumps(s, indent=2, default=lambda o: o.item() if isinstance(o, np.generic) else str(o)),
+               Path(directory) / "summary.json")
+    write_text(summary_text(s), Path(directory) / "summary.txt")
+    return s

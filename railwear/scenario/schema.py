@@ -1,0 +1,130 @@
+"""The scenario schema: frozen pydantic models with physical bounds; units in the field names."""
+
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+
+class _Section(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Wheel(_Section):
+    radius_m: Positive = 0.46
+    unsprung_mass_kg: Positive = 1000.0
+    static_load_kN: Positive = 80.0
+
+
+class Contact(_Section):
+    youngs_modulus_GPa: Positive = 210.0
+    poisson: Annotated[float, Field(ge=0, lt=0.5)] = 0.28
+    rail_head_radius_m: Positive = 0.3
+    friction_coefficient: Annotated[float, Field(gt=0, le=2)] = 0.3
+    traction_coefficient: Annotated[float, Field(gt=0, le=1)] = 0.05
+    load_scatter: Annotated[float, Field(ge=0.01, le=1)] = 0.2
+
+
+class Wear(_Section):
+    specific_wear_ug_per_J: Positive = 5.3
+    density_kg_m3: Positive = 7850.0
+    band_width_mm: Positive | None = None
+
+
+class Operation(_Section):
+    speed_kmh: Positive | list[Positive] | None = None
+    speed_m_s: Positive | list[Positive] | None = None
+    life_distance_km: Positive = 50000.0
+
+    @model_validator(mode="after")
+    def _one_speed(self):
+        if (self.speed_kmh is None) == (self.speed_m_s is None):
+            raise ValueError("give exactly one of speed_kmh and speed_m_s")
+        for name in ("speed_kmh", "speed_m_s"):
+            value = getattr(self, name)
+            if isinstance(value, list) and (not value or sorted(set(value)) != value):
+                raise ValueError(f"{name} must list distinct speeds in increasing order")
+        return self
+
+    @property
+    def speeds(self):
+        """Speed or speeds in m/s; a list makes a batch."""
+        if self.speed_kmh is not None:
+            v = self.speed_kmh
+            return [s / 3.6 for s in v] if isinstance(v, list) else v / 3.6
+        return self.speed_m_s
+
+
+class WearRate(_Section):
+    """``h``: the physical disk-contact form, a cubic in ``u_xx``, or a table."""
+
+    form: Literal["disk_contact", "cubic", "table"] = "disk_contact"
+    c0: Finite = 0.0
+    c1: Finite = 0.0
+    c3: Finite = 0.0
+    curvature_m: list[Finite] | None = None
+    table_speed_kmh: list[Positive] | None = None
+    rate_m: list[Finite] | list[list[Finite]] | None = None
+
+    @model_validator(mode="after")
+    def _table_given(self):
+        if self.form == "table" and (self.curvature_m is None or self.rate_m is None):
+            raise ValueError("form 'table' needs curvature_m and rate_m")
+        return self
+
+
+class Solver(_Section):
+    points: Annotated[int, Field(ge=16, le=65536)] = 512
+    epsilon: NonNegative = 1e-4
+    nu: NonNegative = 1e-3
+    t_end: Positive = 1.0
+    depth_limit_mm: Positive | None = 1.0
+    n_save: Annotated[int, Field(ge=2, le=100000)] = 101
+    dealias: bool = True
+    dt: Positive | None = None
+
+    @field_validator("points")
+    @classmethod
+    def _even(cls, v):
+        if v % 2:
+            raise ValueError("must be even")
+        return v
+
+
+class Initial(_Section):
+    kind: Literal["random", "harmonics", "measured", "round"] = "random"
+    rms_um: NonNegative = 40.0
+    lowest_order: Annotated[int, Field(ge=1)] = 2
+    highest_order: Annotated[int, Field(ge=1)] = 16
+    seed: Annotated[int, Field(ge=0)] = 1
+    orders: list[Annotated[int, Field(ge=1)]] | None = None
+    amplitudes_um: list[Finite] | None = None
+    phases_deg: list[Finite] | None = None
+    file: str | None = None
+
+    @model_validator(mode="after")
+    def _complete(self):
+        if self.kind == "harmonics" and (self.orders is None or self.amplitudes_um is None):
+            raise ValueError("kind 'harmonics' needs orders and amplitudes_um")
+        if self.kind == "measured" and not self.file:
+            raise ValueError("kind 'measured' needs file (a CSV of angle and deviation)")
+        if self.lowest_order > self.highest_order:
+            raise ValueError("lowest_order must not exceed highest_order")
+        return self
+
+
+class Scenario(_Section):
+    """A whole railwear run: wheel, contact, wear, operation, h, solver and initial state."""
+
+    name: str = "unnamed"
+    description: str = ""
+    wheel: Wheel = Wheel()
+    contact: Contact = Contact()
+    wear: Wear = Wear()
+    operation: Operation = Operation(speed_kmh=220.0)
+    wear_rate: WearRate = WearRate()
+    solver: Solver = Solver()
+    initial: Initial = Initial()
