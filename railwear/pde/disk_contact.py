@@ -33,7 +33,7 @@ import numpy as np
 from railwear.errors import ScenarioError
 from railwear.pde.forms import BuiltinRate, Pointwise
 
-_SCATTER_NODES = 2001  # trapezoidal nodes over ±8 standard deviations of the load scatter
+_SCATTER_STEPS_PER_SIGMA = 2000  # resolution of the load-scatter convolution
 _LOAD_POINTS = 2049
 
 
@@ -117,17 +117,24 @@ class DiskContact(BuiltinRate):
 
     @cached_property
     def _scatter_table(self):
-        """Mean ``Tγ`` and its slope over the load scatter, on a grid of loads (N, J/m, m)."""
+        """Mean ``Tγ`` and its slope over the load scatter, on a grid of loads (N, J/m, m).
+
+        A convolution with the normal density (and its derivative) on a fine grid of loads that
+        has the contact-loss and saturation loads as nodes, by FFT.
+        """
+        from scipy.signal import fftconvolve
+
         W, sigma = self.static_load, self.load_scatter * self.static_load
         load = np.linspace(-6 * sigma, W * 3 + 6 * sigma, _LOAD_POINTS)
-        z = np.linspace(-8, 8, _SCATTER_NODES)
-        weight = np.exp(-0.5 * z**2)
-        weight /= np.trapezoid(weight, z)
-        samples = self.frictional_energy(load[:, None] + sigma * z[None, :])
-        mean = np.trapezoid(samples * weight, z, axis=1)
-        # Stein's identity: d/dN E[f(N + σZ)] = E[f(N + σZ) Z] / σ, smooth though f has a cusp.
-        slope = np.trapezoid(samples * (weight * z), z, axis=1) / sigma
-        return load, mean, slope
+        step = sigma / _SCATTER_STEPS_PER_SIGMA
+        step = self.saturation_load / max(1, round(self.saturation_load / step))
+        fine = step * np.arange(round((load[0] - 8 * sigma) / step), round((load[-1] + 8 * sigma) / step) + 1)
+        z = step * np.arange(-round(8 * sigma / step), round(8 * sigma / step) + 1) / sigma
+        density = np.exp(-0.5 * z**2) / (sigma * np.sqrt(2 * np.pi)) * step
+        f = self.frictional_energy(fine)
+        mean = fftconvolve(f, density, mode="same")
+        slope = fftconvolve(f, -density * z / sigma, mode="same")
+        return load, np.interp(load, fine, mean), np.interp(load, fine, slope)
 
     def mean_frictional_energy(self, normal_force):
         """``Tγ`` averaged over the load scatter (J/m), cubic Hermite in the load."""

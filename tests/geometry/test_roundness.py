@@ -1,0 +1,55 @@
+import numpy as np
+import pytest
+
+from railwear.errors import ScenarioError
+from railwear.geometry import roundness
+
+
+def test_harmonics_spectrum_roundtrip():
+    u = roundness.harmonics(256, [3, 7], [20e-6, 5e-6], [0.4, 1.0])
+    s = roundness.polygon_spectrum(u)
+    assert s["amplitude"][2] == pytest.approx(20e-6, rel=1e-12)
+    assert s["amplitude"][6] == pytest.approx(5e-6, rel=1e-12)
+    assert s["dominant_order"] == 3
+    # rms of a 20 µm harmonic is 14.14 µm: 23.01 dB re 1 µm
+    assert s["roughness_level"][2] == pytest.approx(20 * np.log10(20 / np.sqrt(2)), abs=1e-9)
+
+
+@pytest.mark.parametrize("order", [1, 3, 5, 8])
+def test_maxima_of_a_polygon(order):
+    u = roundness.harmonics(512, [order, 3 * order], [1e-4, 2e-6], [0.3, 0.0])
+    assert roundness.count_maxima(u) == order
+
+
+def test_random_perturbation_rms_and_seed():
+    a = roundness.random_perturbation(512, 40e-6, 2, 16, np.random.default_rng(3))
+    b = roundness.random_perturbation(512, 40e-6, 2, 16, np.random.default_rng(3))
+    assert np.sqrt(np.mean(a**2)) == pytest.approx(40e-6, rel=1e-12)
+    np.testing.assert_array_equal(a, b)
+    amp = roundness.harmonic_amplitudes(a)
+    assert np.all(amp[17:] < 1e-18) and amp[1] < 1e-18
+
+
+def test_resample_measured_is_periodic_and_accurate():
+    angle = np.sort(np.random.default_rng(0).uniform(0, 2 * np.pi, 400))
+    u = roundness.resample_measured(angle, 1e-5 * np.cos(3 * angle), 128)
+    np.testing.assert_allclose(u, 1e-5 * np.cos(3 * roundness.grid_angles(128)), atol=2e-9)
+
+
+def test_removed_depth():
+    u0 = roundness.harmonics(64, [2], [1e-5])
+    s = roundness.polygon_spectrum(u0 - 3e-4, u_initial=u0)
+    assert s["max_removed_depth"] == pytest.approx(3e-4)
+    assert s["mean_removed_depth"] == pytest.approx(3e-4)
+
+
+def test_regimes():
+    assert roundness.regime(1.0, 3.0) == "polygonalising"
+    assert roundness.regime(1.0, 1.5) == "onset"
+    assert roundness.regime(1.0, 0.7) == "stable"
+    assert roundness.regime(1.0, 0.2) == "smoothing"
+
+
+def test_bad_orders():
+    with pytest.raises(ScenarioError, match="orders"):
+        roundness.harmonics(64, [40], [1e-6])
