@@ -1,0 +1,191 @@
+"""The main job end to end: built-in scenarios, results on disk, command line, bad input."""
+
+import json
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+import railwear
+from railwear import results
+from railwear.cli import app
+from railwear.errors import IllPosedError, ScenarioError
+from railwear.pde import Cubic, Table, solve_evolution
+from railwear.scenario import builtin_names, builtin_text, load_scenario, parse_scenario
+
+EXPECTED_REGIME = {"stable": "stable", "smoothing": "smoothing", "onset": "onset",
+                   "polygonalisation": "polygonalising"}
+
+
+@pytest.fixture(scope="module")
+def runs():
+    return {name: railwear.run(name) for name in builtin_names()}
+
+
+def test_every_builtin_runs_to_its_regime(runs):
+    assert set(runs) == set(EXPECTED_REGIME)
+    for name, ds in runs.items():
+        assert str(ds.regime.values) == EXPECTED_REGIME[name], name
+        # every regime case runs until 1 mm is gone at the most worn spot
+        assert float(ds.removed_depth[-1]) == pytest.approx(1e-3, rel=1e-9)
+
+
+def test_polygonalisation_ends_with_three_to_eight_maxima(runs):
+    assert 3 <= int(runs["polygonalisation"].maxima) <= 8
+
+
+def test_stable_largest_deviation_falls_monotonically(runs):
+    u = runs["stable"].u
+    largest = np.abs(u - u.mean("angle")).max("angle").values
+    assert np.all(np.diff(largest) <= 0)
+    assert largest[-1] < largest[0]
+
+
+def test_result_roundtrip_netcdf(runs, tmp_path):
+    ds = runs["onset"]
+    path = results.write_netcdf(ds, tmp_path / "r.nc")
+    back = results.read_netcdf(path)
+    np.testing.assert_array_equal(back.u.values, ds.u.values)
+    assert back.attrs["scenario_hash"] == ds.attrs["scenario_hash"]
+    assert back.attrs["railwear_version"] == railwear.__version__
+    assert parse_scenario(back.attrs["scenario"]) == load_scenario("onset")
+    for name, var in back.variables.items():
+        assert "long_name" in var.attrs, name
+    assert back.u.attrs["units"] == "m"
+    assert not list(tmp_path.glob(".*part"))
+
+
+def test_batch_of_speeds_matches_single_runs():
+    x = 2 * np.pi * np.arange(128) / 128
+    u0 = 3e-5 * np.cos(4 * x) + 2e-5 * np.sin(9 * x)
+    disk = railwear.pde.DiskContact()
+    speeds = np.array([60.0, 200.0]) / 3.6
+    batch = solve_evolution(u0, 0.2, disk, speeds, 1e-4, 1e-3, n_save=3, dt=2e-4)
+    for i, v in enumerate(speeds):
+        single = solve_evolution(u0, 0.2, disk, v, 1e-4, 1e-3, n_save=3, dt=2e-4)
+        np.testing.assert_allclose(batch.u.isel(speed=i).values, single.u.values, rtol=0, atol=1e-15)
+
+
+def test_table_form_reproduces_cubic_and_speed_interpolation():
+    s = np.linspace(-0.01, 0.01, 21)
+    cubic = Cubic(c0=-1e-3, c1=0.02, c3=-30.0)
+    table = Table(s, cubic(s))
+    probe = np.linspace(-0.009, 0.009, 7)
+    np.testing.assert_allclose(table(probe), cubic(probe), rtol=1e-9, atol=1e-15)
+    two = Table(s, np.stack([cubic(s), 3 * cubic(s)], axis=1), speed=np.array([10.0, 30.0]))
+    np.testing.assert_allclose(two(probe, speed=20.0), 2 * cubic(probe), rtol=1e-9, atol=1e-15)
+    with pytest.raises(ScenarioError, match="outside"):
+        two(probe, speed=40.0)
+
+
+def test_unregularised_ill_posed_run_is_detected():
+    x = 2 * np.pi * np.arange(64) / 64
+    with pytest.raises(IllPosedError, match="ill-posed"):
+        solve_evolution(1e-5 * np.cos(3 * x), 1.0, Cubic(c1=-0.1), 0.0)
+
+
+def test_ill_posedness_met_during_the_run_is_detected_not_written_as_nan():
+    """Well-posed at the start; backward-parabolic once 0.5 mm has gone."""
+    x = 2 * np.pi * np.arange(64) / 64
+
+    def h(s, u, ux, speed):
+        worn = np.mean(np.atleast_1d(u), axis=-1, keepdims=True) < -5e-4
+        return -1e-2 + np.where(worn, -1.0, 0.01) * s
+
+    with pytest.raises(IllPosedError) as info:
+        solve_evolution(1e-5 * np.cos(3 * x), 0.2, h, 0.0, dt=1e-4)
+    assert np.all(np.isfinite(info.value.last_good))
+    assert 0.05 <= info.value.last_time < 0.2
+
+
+def _scenario(tmp_path, text, name="bad.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+BASE = builtin_text("onset")
+
+
+@pytest.mark.parametrize("edit, field", [
+    (("epsilon = 1e-4", "epsilon = -1e-4"), "solver.epsilon"),
+    (('form = "disk_contact"', 'form = "foo"'), "wear_rate.form"),
+    (('form = "disk_contact"', 'form = "table"\ncurvature_m = [-1.0, 0.0, 1.0, 2.0]\nrate_m = [0.0, nan, 0.0, 0.0]'), "wear_rate.rate_m"),
+    (("radius_m = 0.46", "radius_m = -0.46"), "wheel.radius_m"),
+    (("points = 512", "points = 513"), "solver.points"),
+    (("seed = 1", "seed = 1\ncolour = 3"), "initial.colour"),
+])
+def test_bad_scenario_field_is_named(tmp_path, edit, field):
+    text = BASE.replace(*edit)
+    assert text != BASE
+    path = _scenario(tmp_path, text)
+    with pytest.raises(ScenarioError, match=field.replace(".", r"\.")):
+        load_scenario(path)
+    out = tmp_path / "out"
+    result = CliRunner().invoke(app, ["run", str(path), "-o", str(out)])
+    assert result.exit_code == 2
+    assert "Traceback" not in result.output and field in result.output
+    assert len(result.output.strip().splitlines()) == 1
+    assert not (out / "result.nc").exists()
+
+
+@pytest.mark.parametrize("csv, message", [
+    ("angle_deg,radius_um\n0,1\n90,2\n180,1\n270,0\n", "deviation"),
+    ("deviation_um\n1\n2\n3\n4\n", "angle"),
+    ("angle_deg,deviation_um\n0,1\n90,2\n180,1\n360,0\n", "outside"),
+    ("angle_deg,deviation_um\n-5,1\n90,2\n180,1\n270,0\n", "outside"),
+    ("angle_deg,deviation_um\n0,1\n90,x\n180,1\n270,0\n", "line 3"),
+])
+def test_bad_measured_wheel(tmp_path, csv, message):
+    (tmp_path / "wheel.csv").write_text(csv)
+    text = BASE.replace('kind = "random"', 'kind = "measured"\nfile = "wheel.csv"')
+    path = _scenario(tmp_path, text)
+    result = CliRunner().invoke(app, ["run", str(path), "-o", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert message in result.output and "initial.file" in result.output
+    assert not (tmp_path / "out" / "result.nc").exists()
+
+
+def test_measured_wheel_runs(tmp_path):
+    angle = np.arange(0, 360, 2.0)
+    dev = 30 * np.cos(np.radians(5 * angle))
+    lines = ["angle_deg,deviation_um"] + [f"{a},{d}" for a, d in zip(angle, dev)]
+    (tmp_path / "wheel.csv").write_text("\n".join(lines))
+    text = BASE.replace('kind = "random"', 'kind = "measured"\nfile = "wheel.csv"')
+    ds = railwear.run(load_scenario(_scenario(tmp_path, text)))
+    assert float(ds.amplitude_initial.sel(order=5)) == pytest.approx(30e-6, rel=1e-4)
+
+
+def test_cli_ill_posed_run_fails_with_status_1_and_keeps_last_state(tmp_path):
+    text = BASE.replace("epsilon = 1e-4", "epsilon = 0.0").replace("nu = 1e-3", "nu = 0.0")
+    text = text.replace("speed_kmh = 180.0", "speed_kmh = 300.0")
+    out = tmp_path / "out"
+    result = CliRunner().invoke(app, ["run", str(_scenario(tmp_path, text)), "-o", str(out)])
+    assert result.exit_code == 1, result.output
+    assert "ill-posed" in result.output
+    assert not (out / "result.nc").exists()
+    assert np.all(np.isfinite(np.load(out / "last_good_state.npy")))
+
+
+def test_cli_run_plot_stability_show(tmp_path):
+    runner = CliRunner()
+    out = tmp_path / "out"
+    r = runner.invoke(app, ["run", "smoothing", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["runs"][0]["regime"] == "smoothing"
+    for name in ("result.nc", "summary.txt", "profiles.png", "evolution.png", "spectrum.png"):
+        assert (out / name).stat().st_size > 0
+    (out / "profiles.png").unlink()
+    assert runner.invoke(app, ["plot", str(out / "result.nc")]).exit_code == 0
+    assert (out / "profiles.png").exists()
+    r = runner.invoke(app, ["stability", "polygonalisation", "--speeds", "20:300:40", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert (out / "stability.png").exists() and (out / "stability.nc").exists()
+    r = runner.invoke(app, ["stability", "--speeds", "300:20:10"])
+    assert r.exit_code == 2
+    r = runner.invoke(app, ["show", "polygonalisation"])
+    assert r.exit_code == 0 and parse_scenario(r.output) == load_scenario("polygonalisation")
+    r = runner.invoke(app, ["scenarios"])
+    assert all(name in r.output for name in builtin_names())
+    assert runner.invoke(app, ["plot", str(tmp_path / "missing.nc")]).exit_code == 2
