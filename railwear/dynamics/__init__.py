@@ -9,12 +9,13 @@
 """
 
 from railwear.dynamics.linear import critical_speed, linear_critical_speed, max_real_part, wheelset_state_matrix
-from railwear.dynamics.models import DiskWheelModel, WheelsetModel
+from railwear.dynamics.models import DiskWheelModel, WheelsetModel, contact_constants
 from railwear.dynamics.simulation import simulate
 
 __all__ = [
     "DiskWheelModel",
     "WheelsetModel",
+    "contact_constants",
     "critical_speed",
     "linear_critical_speed",
     "max_real_part",

@@ -17,7 +17,7 @@ from railwear.dynamics import kernels as k
 from railwear.dynamics.linear import wheelset_state_matrix
 from railwear.errors import ScenarioError
 
-__all__ = ["WheelsetModel", "DiskWheelModel"]
+__all__ = ["WheelsetModel", "DiskWheelModel", "contact_constants"]
 
 
 def _number(model, name):
@@ -368,3 +368,30 @@ def model_fields(model) -> dict:
             continue
         out[fld.name] = "none" if value is None else value
     return out
+
+
+def contact_constants(static_load, A, B, youngs_modulus, poisson) -> dict:
+    """Hertz and Kalker constants of one wheel-rail contact at ``static_load`` [N].
+
+    ``A, B`` [1/m]: gap curvatures (``A`` along rolling), steel ``youngs_modulus`` [Pa] and
+    ``poisson`` for both bodies. Returns ``hertz_constant`` (``N = k_H delta^(3/2)`` through the
+    static point; exact for Hertz since ``delta ~ N^(2/3)``), ``static_approach``,
+    ``patch_half_length`` (``a``), and Kalker's ``f11 = G c^2 C11``, ``f22 = G c^2 C22``,
+    ``f23 = G c^3 C23``, ``f33 = G c^4 C33`` with ``c^2 = a b``, ``G = E / (2 (1 + nu))``.
+    """
+    from railwear.contact import hertz_contact, kalker_coefficients
+
+    patch = hertz_contact(static_load, A, B, youngs_modulus, poisson)
+    a, b, approach = float(patch.a), float(patch.b), float(patch.approach)
+    c11, c22, c23, c33 = (float(c) for c in kalker_coefficients(a / b, poisson))
+    shear = youngs_modulus / (2.0 * (1.0 + poisson))
+    c2 = a * b
+    return {
+        "hertz_constant": static_load / approach**1.5,
+        "static_approach": approach,
+        "patch_half_length": a,
+        "f11": shear * c2 * c11,
+        "f22": shear * c2 * c22,
+        "f23": shear * c2 * math.sqrt(c2) * c23,
+        "f33": shear * c2 * c2 * c33,
+    }
