@@ -181,7 +181,9 @@ def advance_compiled(
 def advance_python(v, co, nonlinear, n_steps, t0, active, stop_time, u_ref, depth_limit, blowup):
     """:func:`advance_compiled` for a Python ``nonlinear(v) -> N(v)`` and weights ``co``.
 
-    Used for user-supplied wear-rate callables, which numba cannot compile into the loop.
+    Used for user-supplied wear-rate callables, which numba cannot compile into the loop. The
+    stages repeat those of :func:`advance_compiled`: numba does not cache a loop that takes its
+    nonlinear term as a function argument, so the two loops cannot share one source.
     """
     n = u_ref.shape[-1]
     for step in range(n_steps):
