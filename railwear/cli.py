@@ -59,19 +59,16 @@ class _Progress:
             self.bar.stop()
 
 
-@app.command()
-def run(
-    scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name")] = None,
-    output: Annotated[Path, typer.Option("-o", "--output", help="output directory")] = Path("railwear-out"),
-    figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
-):
-    """Run a scenario; write DIR/result.nc, summary.txt, summary.json and figures."""
+def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None):
     from railwear import api, plots, results
 
+    checkpoint = output / "checkpoint.npz"
     try:
-        sc = api.load_scenario(scenario)
-        with _Progress(f"railwear {sc.name}") as progress:
-            ds = api.run(sc, progress=progress)
+        sc = None if scenario is None and resume_path is not None else api.load_scenario(scenario)
+        label = f"railwear {sc.name if sc else 'resume'}"
+        with _Progress(label) as progress:
+            ds = api.run(sc, progress=progress, checkpoint_path=checkpoint,
+                         checkpoint_every=checkpoint_every, resume_path=resume_path)
     except ScenarioError as e:
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
@@ -84,11 +81,42 @@ def run(
             kept = f"; the last good state (T = {e.last_time:.4g}) is in {output / 'last_good_state.npy'}"
         _fail(f"{e}{kept}", 1)
     results.write_netcdf(ds, output / "result.nc")
+    checkpoint.unlink(missing_ok=True)
     summary = results.write_summary(ds, output)
     if figures:
         plots.write_figures(ds, output)
     typer.echo(results.summary_text(summary), nl=False)
     typer.echo(f"wrote {output / 'result.nc'}")
+
+
+CheckpointEvery = Annotated[float, typer.Option(
+    help="seconds of wall time between checkpoints (DIR/checkpoint.npz); 0 saves every output interval")]
+
+
+@app.command()
+def run(
+    scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name")] = None,
+    output: Annotated[Path, typer.Option("-o", "--output", help="output directory")] = Path("railwear-out"),
+    figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
+    checkpoint_every: CheckpointEvery = 30.0,
+):
+    """Run a scenario; write DIR/result.nc, summary.txt, summary.json and figures."""
+    if checkpoint_every < 0:
+        _fail("--checkpoint-every must be >= 0 (s)", 2)
+    _run_and_write(scenario, output, figures, checkpoint_every)
+
+
+@app.command()
+def resume(
+    directory: Annotated[Path, typer.Argument(help="output directory of a run that was stopped")],
+    figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
+    checkpoint_every: CheckpointEvery = 30.0,
+):
+    """Continue a stopped run from DIR/checkpoint.npz to the same result as an uninterrupted run."""
+    path = directory / "checkpoint.npz"
+    if not path.is_file():
+        _fail(f"no checkpoint in {directory} (expected {path.name})", 2)
+    _run_and_write(None, directory, figures, checkpoint_every, resume_path=path)
 
 
 @app.command()

@@ -93,3 +93,34 @@ def write_summary(ds, directory):
                Path(directory) / "summary.json")
     write_text(summary_text(s), Path(directory) / "summary.txt")
     return s
+
+
+def write_checkpoint(path, checkpoint, scenario_toml, scenario_hash):
+    """Save an :class:`~railwear.pde.evolution.EvolutionCheckpoint` with its scenario (``.npz``)."""
+    from dataclasses import asdict
+
+    fields = asdict(checkpoint)
+    fields.update(scenario=np.array(scenario_toml), scenario_hash=np.array(scenario_hash))
+
+    def write(tmp):
+        with open(tmp, "wb") as f:
+            np.savez(f, **fields)
+
+    return _atomic(path, write)
+
+
+def read_checkpoint(path):
+    """``(checkpoint, scenario_toml, scenario_hash)`` from :func:`write_checkpoint`'s file."""
+    from railwear.errors import ScenarioError
+    from railwear.pde.evolution import EvolutionCheckpoint
+
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            fields = {k: data[k] for k in data.files}
+    except (OSError, ValueError) as e:
+        raise ScenarioError(f"checkpoint {path}: cannot be read ({e})") from None
+    toml, digest = str(fields.pop("scenario")), str(fields.pop("scenario_hash"))
+    scalars = {"fingerprint": str, "intervals": int, "steps": int, "halvings": int}
+    for key, kind in scalars.items():
+        fields[key] = kind(fields[key])
+    return EvolutionCheckpoint(**fields), toml, digest

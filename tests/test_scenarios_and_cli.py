@@ -189,3 +189,33 @@ def test_cli_run_plot_stability_show(tmp_path):
     r = runner.invoke(app, ["scenarios"])
     assert all(name in r.output for name in builtin_names())
     assert runner.invoke(app, ["plot", str(tmp_path / "missing.nc")]).exit_code == 2
+
+
+def test_killed_run_resumes_bit_for_bit(tmp_path, monkeypatch):
+    runner = CliRunner()
+    whole = tmp_path / "whole"
+    assert runner.invoke(app, ["run", "onset", "-o", str(whole), "--no-figures"]).exit_code == 0
+    killed = tmp_path / "killed"
+    real_write = results.write_checkpoint
+    calls = []
+
+    def write_then_die(*args):
+        real_write(*args)
+        calls.append(1)
+        if len(calls) == 7:
+            raise KeyboardInterrupt  # the process is killed after its seventh checkpoint
+
+    monkeypatch.setattr(results, "write_checkpoint", write_then_die)
+    r = runner.invoke(app, ["run", "onset", "-o", str(killed), "--no-figures", "--checkpoint-every", "0"])
+    assert r.exit_code != 0 and not (killed / "result.nc").exists()
+    state, _, _ = results.read_checkpoint(killed / "checkpoint.npz")
+    assert state.intervals == 7 and state.saved.shape[0] == 8
+    monkeypatch.setattr(results, "write_checkpoint", real_write)
+    r = runner.invoke(app, ["resume", str(killed), "--no-figures"])
+    assert r.exit_code == 0, r.output
+    a, b = results.read_netcdf(whole / "result.nc"), results.read_netcdf(killed / "result.nc")
+    np.testing.assert_array_equal(a.u.values, b.u.values)
+    np.testing.assert_array_equal(a.time.values, b.time.values)
+    assert a.attrs["scenario_hash"] == b.attrs["scenario_hash"]
+    assert not (killed / "checkpoint.npz").exists()
+    assert runner.invoke(app, ["resume", str(killed)]).exit_code == 2

@@ -19,10 +19,14 @@ class Phenomenological:
     nu: float = 0.0
     options: dict = field(default_factory=dict)
 
-    def run(self, u0, until=1.0, depth_limit=None, progress=None):
-        """Solve to normed time ``until`` or removed depth ``depth_limit`` (m); add the wheel's spectrum."""
+    def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
+        """Solve to normed time ``until`` or removed depth ``depth_limit`` (m); add the wheel's spectrum.
+
+        ``checkpoint`` and ``resume`` are passed to :func:`~railwear.pde.solve_evolution`.
+        """
         ds = solve_evolution(u0, until, as_wear_rate(self.h), self.speed, self.epsilon, self.nu,
-                             depth_limit=depth_limit, progress=progress, **self.options)
+                             depth_limit=depth_limit, progress=progress, checkpoint=checkpoint,
+                             resume=resume, **self.options)
         return describe(ds)
 
 

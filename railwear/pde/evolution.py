@@ -9,7 +9,9 @@ largest slope ``∂h/∂u_xx`` met), so that the stiff smoothing of a non-monoto
 limit the step.
 """
 
+import hashlib
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
@@ -91,6 +93,37 @@ def _growth_bound(form, s, u, ux, speeds, k, epsilon, nu):
     return float(np.max(dispersion(-np.minimum(low, 0.0)[:, None], k[None, :], epsilon, nu)))
 
 
+@dataclass(frozen=True)
+class EvolutionCheckpoint:
+    """Everything needed to continue a solve bit for bit after output interval ``intervals``.
+
+    ``fingerprint`` identifies the problem (initial state, speeds, ``h``, parameters); the rest is
+    the loop's state: spectra saved so far with their times, the present spectra, the rows still
+    running and the stop times of the others, the steps per interval, the halvings spent and the
+    stabilisation ``S`` in force.
+    """
+
+    fingerprint: str
+    intervals: int
+    steps: int
+    halvings: int
+    stabilisation: np.ndarray
+    spectra: np.ndarray
+    active: np.ndarray
+    stop_time: np.ndarray
+    saved: np.ndarray
+    times: np.ndarray
+
+
+def _fingerprint(u_start, speeds, form, *parameters):
+    digest = hashlib.sha256()
+    digest.update(np.ascontiguousarray(u_start).tobytes())
+    digest.update(np.ascontiguousarray(speeds).tobytes())
+    name = getattr(getattr(form, "func", None), "__qualname__", None) or repr(form)
+    digest.update(repr((name,) + parameters).encode())
+    return digest.hexdigest()
+
+
 class _Problem:
     """The discretised equation for one set of rows, with the step-dependent weights."""
 
@@ -108,9 +141,11 @@ class _Problem:
         if self.compiled:
             self.tables = [form.at_speed(float(v)) for v in speeds]
 
-    def set_stabilisation(self, v):
+    def set_stabilisation(self, v, S=None):
         """Choose ``S`` per row from the state ``v`` unless it was given; rebuild the weights' base."""
-        if self.fixed_stabilisation is not None:
+        if S is not None:
+            S = np.asarray(S, float)
+        elif self.fixed_stabilisation is not None:
             S = np.full(len(self.speeds), float(self.fixed_stabilisation))
         else:
             s, u, ux = self.fields(v)
@@ -167,6 +202,7 @@ class _Problem:
 def solve_evolution(
     u0, t_end, h, speed=0.0, epsilon=0.0, nu=0.0, *, dt=None, n_save=101, dealias=True,
     stabilisation=None, depth_limit=None, tail_tolerance=1e-3, max_halvings=6, progress=None,
+    checkpoint=None, resume=None,
 ):
     """Solve the evolution equation from ``u0`` (m) over normed time ``[0, t_end]``.
 
@@ -194,6 +230,11 @@ def solve_evolution(
         (and beyond 1000 times its start) before the run is declared ill-posed.
     progress : callable, optional
         Called with the fraction of ``t_end`` done after each output interval.
+    checkpoint : callable, optional
+        Called with an :class:`EvolutionCheckpoint` after each output interval.
+    resume : EvolutionCheckpoint, optional
+        Continue from a checkpoint of the same problem; the result is bit for bit that of an
+        uninterrupted run.
 
     Returns an ``xarray.Dataset`` with ``u`` over (``time``, [``speed`` | ``member``], ``angle``)
     and the stop time per row. Raises :class:`~railwear.errors.IllPosedError` on growth at the grid
@@ -208,12 +249,10 @@ def solve_evolution(
     n = u_start.shape[-1]
     problem = _Problem(form, n, speeds, float(epsilon), float(nu), dealias, stabilisation)
     v = np.fft.rfft(u_start, axis=-1)
-    if epsilon == 0 and nu == 0:
-        s, u, ux = problem.fields(v)
-        if problem.growth_bound(v) > 0:
-            raise IllPosedError(
-                "h decreases with u_xx at the start and neither epsilon nor nu regularises it: "
-                "the equation is ill-posed", last_good=u_start, last_time=0.0)
+    if epsilon == 0 and nu == 0 and problem.growth_bound(v) > 0:
+        raise IllPosedError(
+            "h decreases with u_xx at the start and neither epsilon nor nu regularises it: "
+            "the equation is ill-posed", last_good=u_start, last_time=0.0)
     problem.set_stabilisation(v)
     interval = t_end / (n_save - 1)
     if dt is None:
@@ -223,18 +262,24 @@ def solve_evolution(
         raise ScenarioError(f"dt must be > 0, got {dt}")
     steps = max(1, math.ceil(interval / dt * (1 - 1e-12)))
 
+    tail_start, amp_start = problem.tail(v)
+    tail_ref = np.maximum(tail_start, tail_tolerance * amp_start)
+    blowup = 1e6 * max(float(np.max(np.abs(v))), 1e-300)
+    depth = float(depth_limit) if depth_limit is not None else 0.0
+    fingerprint = _fingerprint(u_start, speeds, form, t_end, epsilon, nu, dt, n_save, dealias,
+                               stabilisation, depth_limit, tail_tolerance, max_halvings)
     active = np.ones(len(speeds), dtype=bool)
     stop_time = np.full(len(speeds), np.nan)
-    tail_start, _ = problem.tail(v)
-    _, amp_start = problem.tail(v)
-    tail_ref = np.maximum(tail_start, tail_tolerance * amp_start)
-    scale = max(float(np.max(np.abs(v))), 1e-300)
-    blowup = 1e6 * scale
-    depth = float(depth_limit) if depth_limit is not None else 0.0
     saved, times = [v.copy()], [0.0]
-    halvings = 0
+    halvings = j = 0
+    if resume is not None:
+        if resume.fingerprint != fingerprint:
+            raise ScenarioError("resume: the checkpoint belongs to another problem")
+        j, steps, halvings = resume.intervals, resume.steps, resume.halvings
+        v, active, stop_time = resume.spectra.copy(), resume.active.copy(), resume.stop_time.copy()
+        saved, times = list(resume.saved), list(resume.times)
+        problem.set_stabilisation(v, resume.stabilisation)
     coefficients = etdrk4.etdrk4_coefficients(problem.L, interval / steps)
-    j = 0
     while j < n_save - 1:
         t0 = j * interval
         v_start, active_start = v.copy(), active.copy()
@@ -266,6 +311,10 @@ def solve_evolution(
             break
         saved.append(v.copy())
         times.append(j * interval)
+        if checkpoint is not None:
+            checkpoint(EvolutionCheckpoint(fingerprint, j, steps, halvings, problem.S.copy(),
+                                           v.copy(), active.copy(), stop_time.copy(),
+                                           np.array(saved), np.array(times)))
         if progress is not None:
             progress(j / (n_save - 1))
     if progress is not None:
