@@ -22,6 +22,7 @@ KIND_LINEAR = 0  # y' = A y, A in p[1:] (n = p[0]); tests of the integrators
 KIND_VAN_DER_POL = 1  # y0' = y1, y1' = mu (1 - y0^2) y1 - y0, mu = p[0]; stiff test
 KIND_WHEELSET = 2
 KIND_DISK_WHEEL = 3
+KIND_BOGIE = 4
 
 # ---- wheelset parameters --------------------------------------------------------------------
 WS_SPEED = 0
@@ -44,6 +45,33 @@ WS_FLANGE_CLEARANCE = 16
 WS_FLANGE_STIFFNESS = 17
 WS_N_PARAMS = 18
 WS_N_OUTPUTS = 18  # see wheelset_outputs
+
+# ---- bogie parameters (two wheelsets in a frame, frame on a secondary suspension) -----------
+BG_SPEED = 0
+BG_WHEELSET_MASS = 1
+BG_WHEELSET_YAW_INERTIA = 2
+BG_FRAME_MASS = 3
+BG_FRAME_YAW_INERTIA = 4
+BG_PRIMARY_LATERAL_STIFFNESS = 5  # per wheelset
+BG_PRIMARY_YAW_STIFFNESS = 6  # per wheelset, 2 k_long d^2
+BG_SECONDARY_LATERAL_STIFFNESS = 7
+BG_SECONDARY_LATERAL_DAMPING = 8
+BG_SECONDARY_YAW_STIFFNESS = 9
+BG_SECONDARY_YAW_DAMPING = 10
+BG_HALF_WHEELBASE = 11
+BG_F11 = 12
+BG_F22 = 13
+BG_F23 = 14
+BG_F33 = 15
+BG_HALF_GAUGE = 16
+BG_ROLLING_RADIUS = 17
+BG_CONICITY = 18
+BG_WHEEL_LOAD = 19
+BG_FRICTION = 20
+BG_FLANGE_CLEARANCE = 21
+BG_FLANGE_STIFFNESS = 22
+BG_N_PARAMS = 23
+BG_N_OUTPUTS = 10  # see bogie_outputs
 
 # ---- disk wheel parameters ------------------------------------------------------------------
 DW_SPEED = 0
@@ -87,23 +115,21 @@ def saturation_factor(force, limit):
 
 # ---- wheelset -------------------------------------------------------------------------------
 @njit(cache=True, inline="always")
-def _wheel(sign, y, p):
-    """Creepages, forces and frictional power of one wheel (``sign`` +1 left at ``+e``, -1 right).
+def _creep(sign, lat, yaw, vlat, vyaw, v, e, r0, lam, f11, f22, f23, f33, limit):
+    """Creepages, forces and frictional power of one conical wheel of a wheelset.
 
-    ``xi = -sign (e psi'/V + lam y/r0)``, ``eta = y'/V - psi``, ``phi = psi'/V - sign lam/r0``;
-    ``Fx = -f11 xi``, ``Fy = -f22 eta - f23 phi``, ``Mz = f23 eta - f33 phi``, all scaled by the
-    saturation factor of ``|(Fx, Fy)|``; power ``-V (Fx xi + Fy eta + Mz phi)``.
+    ``sign`` +1 for the left wheel at ``+e``, -1 for the right. ``xi = -sign (e psi'/V + lam y/r0)``,
+    ``eta = y'/V - psi``, ``phi = psi'/V - sign lam/r0``; ``Fx = -f11 xi``,
+    ``Fy = -f22 eta - f23 phi``, ``Mz = f23 eta - f33 phi``, all scaled by the saturation factor of
+    ``|(Fx, Fy)|`` against ``limit = mu N``; power ``-V (Fx xi + Fy eta + Mz phi)``.
     """
-    v = p[WS_SPEED]
-    r0 = p[WS_ROLLING_RADIUS]
-    lam = p[WS_CONICITY]
-    eta = y[2] / v - y[1]
-    xi = -sign * (p[WS_HALF_GAUGE] * y[3] / v + lam * y[0] / r0)
-    phi = y[3] / v - sign * lam / r0
-    fx = -p[WS_F11] * xi
-    fy = -p[WS_F22] * eta - p[WS_F23] * phi
-    mz = p[WS_F23] * eta - p[WS_F33] * phi
-    s = saturation_factor(math.sqrt(fx * fx + fy * fy), p[WS_FRICTION] * p[WS_WHEEL_LOAD])
+    eta = vlat / v - yaw
+    xi = -sign * (e * vyaw / v + lam * lat / r0)
+    phi = vyaw / v - sign * lam / r0
+    fx = -f11 * xi
+    fy = -f22 * eta - f23 * phi
+    mz = f23 * eta - f33 * phi
+    s = saturation_factor(math.sqrt(fx * fx + fy * fy), limit)
     fx *= s
     fy *= s
     mz *= s
@@ -111,14 +137,25 @@ def _wheel(sign, y, p):
 
 
 @njit(cache=True, inline="always")
-def _flange(lateral, p):
+def _wheel(sign, y, p):
+    """``_creep`` for the single wheelset, state ``y = [y, psi, y', psi']``, parameters ``WS_*``."""
+    return _creep(sign, y[0], y[1], y[2], y[3], p[WS_SPEED], p[WS_HALF_GAUGE], p[WS_ROLLING_RADIUS],
+                  p[WS_CONICITY], p[WS_F11], p[WS_F22], p[WS_F23], p[WS_F33], p[WS_FRICTION] * p[WS_WHEEL_LOAD])
+
+
+@njit(cache=True, inline="always")
+def _dead_band(lateral, clearance, stiffness):
     """Flange force [N]: a linear spring outside the dead band ``|y| <= clearance``."""
-    d = p[WS_FLANGE_CLEARANCE]
-    if lateral > d:
-        return -p[WS_FLANGE_STIFFNESS] * (lateral - d)
-    if lateral < -d:
-        return -p[WS_FLANGE_STIFFNESS] * (lateral + d)
+    if lateral > clearance:
+        return -stiffness * (lateral - clearance)
+    if lateral < -clearance:
+        return -stiffness * (lateral + clearance)
     return 0.0
+
+
+@njit(cache=True, inline="always")
+def _flange(lateral, p):
+    return _dead_band(lateral, p[WS_FLANGE_CLEARANCE], p[WS_FLANGE_STIFFNESS])
 
 
 @njit(cache=True, inline="always")
@@ -153,6 +190,73 @@ def wheelset_outputs(t, y, p, surf, out):
         out[8 * w + 7] = sign * y[0]
     out[16] = _flange(y[0], p)
     out[17] = (p[WS_SPEED] * t / p[WS_ROLLING_RADIUS]) % TWO_PI
+
+
+# ---- bogie ----------------------------------------------------------------------------------
+@njit(cache=True, inline="always")
+def _bogie_wheelset(i, y, p):
+    """Creep and flange forces on wheelset ``i`` (0 front, 1 rear) of the bogie:
+    ``(Fy, Mz, power_left, power_right, flange)`` summed over both wheels."""
+    lat, yaw, vlat, vyaw = y[2 * i], y[2 * i + 1], y[6 + 2 * i], y[7 + 2 * i]
+    limit = p[BG_FRICTION] * p[BG_WHEEL_LOAD]
+    fy = 0.0
+    mz = 0.0
+    power_left = 0.0
+    power_right = 0.0
+    for w in range(2):
+        sign = 1.0 - 2.0 * w
+        _, _, _, fx, fyw, mzw, power = _creep(
+            sign, lat, yaw, vlat, vyaw, p[BG_SPEED], p[BG_HALF_GAUGE], p[BG_ROLLING_RADIUS], p[BG_CONICITY],
+            p[BG_F11], p[BG_F22], p[BG_F23], p[BG_F33], limit,
+        )
+        fy += fyw
+        mz += mzw - sign * p[BG_HALF_GAUGE] * fx
+        if w == 0:
+            power_left = power
+        else:
+            power_right = power
+    flange = _dead_band(lat, p[BG_FLANGE_CLEARANCE], p[BG_FLANGE_STIFFNESS])
+    return fy + flange, mz, power_left, power_right, flange
+
+
+@njit(cache=True)
+def bogie_rhs(t, y, p, surf, dydt):
+    """Two-axle bogie (Cooperrider): state ``[y1, psi1, y2, psi2, y_f, psi_f]`` and their rates.
+
+    Wheelset ``i`` at ``x_i = +b`` (front) or ``-b`` (rear): ``m y_i'' = Fy_i - k1 (y_i - y_f - x_i psi_f)``,
+    ``I psi_i'' = Mz_i - k_psi (psi_i - psi_f)``; frame: ``m_f y_f'' = sum k1 d_i - k4 y_f - D1 y_f'``,
+    ``I_f psi_f'' = sum (x_i k1 d_i + k_psi (psi_i - psi_f)) - k6 psi_f - D2 psi_f'`` (car body fixed).
+    """
+    b = p[BG_HALF_WHEELBASE]
+    k1 = p[BG_PRIMARY_LATERAL_STIFFNESS]
+    kpsi = p[BG_PRIMARY_YAW_STIFFNESS]
+    frame_force = -p[BG_SECONDARY_LATERAL_STIFFNESS] * y[4] - p[BG_SECONDARY_LATERAL_DAMPING] * y[10]
+    frame_moment = -p[BG_SECONDARY_YAW_STIFFNESS] * y[5] - p[BG_SECONDARY_YAW_DAMPING] * y[11]
+    for i in range(2):
+        x = b if i == 0 else -b
+        fy, mz, _, _, _ = _bogie_wheelset(i, y, p)
+        deflection = y[2 * i] - y[4] - x * y[5]
+        twist = y[2 * i + 1] - y[5]
+        dydt[6 + 2 * i] = (fy - k1 * deflection) / p[BG_WHEELSET_MASS]
+        dydt[7 + 2 * i] = (mz - kpsi * twist) / p[BG_WHEELSET_YAW_INERTIA]
+        frame_force += k1 * deflection
+        frame_moment += x * k1 * deflection + kpsi * twist
+    dydt[10] = frame_force / p[BG_FRAME_MASS]
+    dydt[11] = frame_moment / p[BG_FRAME_YAW_INERTIA]
+    for j in range(6):
+        dydt[j] = y[6 + j]
+
+
+@njit(cache=True)
+def bogie_outputs(t, y, p, surf, out):
+    """Outputs per time: per wheelset (front 0-4, rear 5-9) ``power_left, power_right, flange, Fy, Mz``."""
+    for i in range(2):
+        fy, mz, power_left, power_right, flange = _bogie_wheelset(i, y, p)
+        out[5 * i + 0] = power_left
+        out[5 * i + 1] = power_right
+        out[5 * i + 2] = flange
+        out[5 * i + 3] = fy
+        out[5 * i + 4] = mz
 
 
 # ---- disk wheel -----------------------------------------------------------------------------
@@ -297,6 +401,8 @@ def rhs(kind, t, y, p, surf, dydt):
         wheelset_rhs(t, y, p, surf, dydt)
     elif kind == KIND_DISK_WHEEL:
         disk_wheel_rhs(t, y, p, surf, dydt)
+    elif kind == KIND_BOGIE:
+        bogie_rhs(t, y, p, surf, dydt)
     elif kind == KIND_LINEAR:
         linear_rhs(t, y, p, surf, dydt)
     elif kind == KIND_VAN_DER_POL:
@@ -320,4 +426,6 @@ def outputs(kind, ts, ys, p, surf, n_out):
             wheelset_outputs(ts[i], ys[i], p, surf, res[i])
         elif kind == KIND_DISK_WHEEL:
             disk_wheel_outputs(ts[i], ys[i], p, surf, res[i])
+        elif kind == KIND_BOGIE:
+            bogie_outputs(ts[i], ys[i], p, surf, res[i])
     return res

@@ -17,7 +17,7 @@ from railwear.dynamics import kernels as k
 from railwear.dynamics.linear import wheelset_state_matrix
 from railwear.errors import ScenarioError
 
-__all__ = ["WheelsetModel", "DiskWheelModel", "contact_constants"]
+__all__ = ["BogieModel", "DiskWheelModel", "WheelsetModel", "contact_constants", "numerical_state_matrix"]
 
 
 def _number(model, name):
@@ -45,6 +45,23 @@ def _check(model, positive=(), nonnegative=(), finite=()):
         value = _number(model, name)
         if not math.isfinite(value):
             raise ScenarioError(f"{name}: must be finite, got {value!r}")
+
+
+def _pack(model, prefix, size, speed=None):
+    """Parameter array of ``model`` for its kernel: field ``name`` goes to ``kernels.<prefix>NAME``.
+
+    The friction coefficient goes to ``<prefix>FRICTION``; every index must be filled."""
+    p = np.full(size, np.nan)
+    for fld in fields(model):
+        name = "FRICTION" if fld.name == "friction_coefficient" else fld.name.upper()
+        index = getattr(k, prefix + name, None)
+        if index is not None:
+            p[index] = getattr(model, fld.name)
+    if speed is not None:
+        p[getattr(k, prefix + "SPEED")] = speed
+    if np.isnan(p).any():
+        raise RuntimeError(f"{type(model).__name__}: kernel parameter(s) {np.flatnonzero(np.isnan(p))} not set")
+    return p
 
 
 @dataclass(frozen=True)
@@ -104,26 +121,7 @@ class WheelsetModel:
 
     def params(self, speed=None) -> np.ndarray:
         """Parameter array for ``kernels.wheelset_rhs`` (``speed`` overrides the model's)."""
-        p = np.zeros(k.WS_N_PARAMS)
-        p[k.WS_SPEED] = self.speed if speed is None else speed
-        p[k.WS_MASS] = self.mass
-        p[k.WS_YAW_INERTIA] = self.yaw_inertia
-        p[k.WS_LATERAL_STIFFNESS] = self.lateral_stiffness
-        p[k.WS_YAW_STIFFNESS] = self.yaw_stiffness
-        p[k.WS_LATERAL_DAMPING] = self.lateral_damping
-        p[k.WS_YAW_DAMPING] = self.yaw_damping
-        p[k.WS_F11] = self.f11
-        p[k.WS_F22] = self.f22
-        p[k.WS_F23] = self.f23
-        p[k.WS_F33] = self.f33
-        p[k.WS_HALF_GAUGE] = self.half_gauge
-        p[k.WS_ROLLING_RADIUS] = self.rolling_radius
-        p[k.WS_CONICITY] = self.conicity
-        p[k.WS_WHEEL_LOAD] = self.wheel_load
-        p[k.WS_FRICTION] = self.friction_coefficient
-        p[k.WS_FLANGE_CLEARANCE] = self.flange_clearance
-        p[k.WS_FLANGE_STIFFNESS] = self.flange_stiffness
-        return p
+        return _pack(self, "WS_", k.WS_N_PARAMS, speed)
 
     def surface(self) -> np.ndarray:
         return np.zeros(0)
@@ -156,6 +154,125 @@ class WheelsetModel:
     def klingel_wavelength(self) -> float:
         """Klingel's kinematic wavelength ``2 pi sqrt(r0 e / lam)`` [m]."""
         return 2.0 * math.pi * math.sqrt(self.rolling_radius * self.half_gauge / self.conicity)
+
+
+def numerical_state_matrix(kind, params, n_states, step=1e-7) -> np.ndarray:
+    """Central-difference Jacobian of the compiled right-hand side at the zero state.
+
+    Exact to round-off where the right-hand side is linear about zero (saturation off, flange
+    dead band wider than ``step``), which is how the models call it."""
+    jac = np.empty((n_states, n_states))
+    f_plus, f_minus = np.empty(n_states), np.empty(n_states)
+    surf = np.zeros(0)
+    for j in range(n_states):
+        y = np.zeros(n_states)
+        y[j] = step
+        k.rhs(kind, 0.0, y, params, surf, f_plus)
+        y[j] = -step
+        k.rhs(kind, 0.0, y, params, surf, f_minus)
+        jac[:, j] = (f_plus - f_minus) / (2.0 * step)
+    return jac
+
+
+@dataclass(frozen=True)
+class BogieModel:
+    """Two-axle bogie on straight track (the Cooperrider bogie): lateral and yaw motion of two
+    conical wheelsets (``x = +-half_wheelbase``) and of the frame, which hangs from a car body moving
+    at ``speed`` through a secondary lateral and yaw spring-damper. Primary: a lateral spring per
+    wheelset and a yaw spring per wheelset (``2 k_longitudinal d^2``). Creep, saturation and flange
+    dead band as in ``WheelsetModel``. ``BogieModel.cooperrider`` gives the published parameters.
+    """
+
+    speed: float
+    wheelset_mass: float
+    wheelset_yaw_inertia: float
+    frame_mass: float
+    frame_yaw_inertia: float
+    primary_lateral_stiffness: float
+    primary_yaw_stiffness: float
+    secondary_lateral_stiffness: float
+    secondary_lateral_damping: float
+    secondary_yaw_stiffness: float
+    secondary_yaw_damping: float
+    half_wheelbase: float
+    f11: float
+    f22: float
+    half_gauge: float
+    rolling_radius: float
+    conicity: float
+    f23: float = 0.0
+    f33: float = 0.0
+    wheel_load: float = 50e3
+    friction_coefficient: float = math.inf
+    flange_clearance: float = math.inf
+    flange_stiffness: float = 0.0
+    initial_lateral_displacement: float = 1e-3
+
+    kind = k.KIND_BOGIE
+    n_states = 12
+    default_atol = 1e-10
+
+    def __post_init__(self):
+        _check(
+            self,
+            positive=(
+                "speed", "wheelset_mass", "wheelset_yaw_inertia", "frame_mass", "frame_yaw_inertia", "half_wheelbase",
+                "half_gauge", "rolling_radius", "wheel_load",
+            ),
+            nonnegative=(
+                "primary_lateral_stiffness", "primary_yaw_stiffness", "secondary_lateral_stiffness",
+                "secondary_lateral_damping", "secondary_yaw_stiffness", "secondary_yaw_damping", "f11", "f22", "f33",
+                "conicity", "flange_stiffness",
+            ),
+            finite=("f23", "initial_lateral_displacement", "primary_lateral_stiffness", "primary_yaw_stiffness"),
+        )
+        for name in ("friction_coefficient", "flange_clearance"):
+            if not _number(self, name) > 0.0:
+                raise ScenarioError(f"{name}: must be positive (inf to switch it off), got {getattr(self, name)!r}")
+
+    @classmethod
+    def cooperrider(cls, speed, **overrides):
+        """The Cooperrider bogie as used by Kaas-Petersen (1986) and True and co-workers.
+
+        From REFERENCES.md: masses and yaw inertias, primary stiffnesses k1 = 1.823 MN/m (lateral)
+        and k2 = 3.646 MN/m (longitudinal), secondary lateral damping 20 kN s/m, ``G pi a b`` =
+        6.563 MN, rolling radius, half gauge and conicity (the last three to confirm). Not yet
+        confirmed from a primary source (taken as recalled from True's papers; override to
+        change): the longitudinal spring half-spacing 0.620 m, half wheelbase 1.074 m, secondary
+        lateral stiffness 0.1823 MN/m, secondary yaw stiffness 0.3333 MN m/rad, secondary yaw
+        damping 29.2 kN m s/rad, flange dead band 9.1 mm and stiffness 14.60 MN/m, and the linear
+        creep coefficients ``f11 = f22 = G pi a b`` (no Kalker ellipse factors).
+        """
+        k2, spacing = 3.646e6, 0.620
+        params = dict(
+            speed=speed, wheelset_mass=1022.0, wheelset_yaw_inertia=678.0, frame_mass=2918.9,
+            frame_yaw_inertia=6780.0, primary_lateral_stiffness=1.823e6, primary_yaw_stiffness=2.0 * k2 * spacing**2,
+            secondary_lateral_stiffness=0.1823e6, secondary_lateral_damping=20e3, secondary_yaw_stiffness=0.3333e6,
+            secondary_yaw_damping=29.2e3, half_wheelbase=1.074, f11=6.563e6, f22=6.563e6, half_gauge=0.7163,
+            rolling_radius=0.4572, conicity=0.05, flange_clearance=9.1e-3, flange_stiffness=14.60e6,
+        )
+        params.update(overrides)
+        return cls(**params)
+
+    def params(self, speed=None) -> np.ndarray:
+        """Parameter array for ``kernels.bogie_rhs`` (``speed`` overrides the model's)."""
+        return _pack(self, "BG_", k.BG_N_PARAMS, speed)
+
+    def surface(self) -> np.ndarray:
+        return np.zeros(0)
+
+    def initial_state(self) -> np.ndarray:
+        y = np.zeros(self.n_states)
+        y[0] = self.initial_lateral_displacement
+        return y
+
+    def state_matrix(self, speed=None) -> np.ndarray:
+        """Linearisation about centred running (saturation off; the flange dead band is open)."""
+        p = self.params(speed)
+        p[k.BG_FRICTION] = math.inf
+        if not self.flange_clearance > 1e-6:
+            raise ScenarioError("flange_clearance: the linearisation needs a dead band wider than 1 um")
+        return numerical_state_matrix(self.kind, p, self.n_states)
 
 
 @dataclass(frozen=True, eq=False)

@@ -9,7 +9,7 @@ import xarray as xr
 
 from railwear.dynamics import integrators as integ
 from railwear.dynamics import kernels as k
-from railwear.dynamics.models import DiskWheelModel, WheelsetModel, model_fields
+from railwear.dynamics.models import BogieModel, DiskWheelModel, WheelsetModel, model_fields
 from railwear.errors import NumericalInstabilityError, ScenarioError
 
 __all__ = ["simulate", "METHODS"]
@@ -69,8 +69,9 @@ def simulate(
     max_steps=10_000_000,
     max_step=math.inf,
     max_norm=1e6,
+    initial_state=None,
 ) -> xr.Dataset:
-    """Integrate ``model`` (``WheelsetModel`` or ``DiskWheelModel``) over ``[0, t_end]`` seconds.
+    """Integrate ``model`` (``WheelsetModel``, ``DiskWheelModel`` or ``BogieModel``) over ``[0, t_end]`` seconds.
 
     Output at ``t_eval`` (dense output; default ``n_output`` equidistant times) or every
     ``output_every`` accepted steps. ``method``: ``"dopri5"`` (explicit, default) or
@@ -78,15 +79,17 @@ def simulate(
     the contact quantities; every variable has CF ``units`` and ``long_name``.
     Raises ``ScenarioError`` for bad options and ``NumericalInstabilityError`` if the solution
     blows up (any state above ``max_norm``), the step size underflows or ``max_steps`` is hit.
+    ``initial_state`` (length ``model.n_states``) replaces the model's initial state, e.g. to
+    continue a run at another speed.
     """
-    if not isinstance(model, (WheelsetModel, DiskWheelModel)):
-        raise ScenarioError(f"model: expected a WheelsetModel or DiskWheelModel, got {type(model).__name__}")
+    if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel)):
+        raise ScenarioError(f"model: expected a WheelsetModel, DiskWheelModel or BogieModel, got {type(model).__name__}")
     t_end, method_id, rtol, atol, t_eval, every = _options(
         model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step
     )
     p = model.params()
     surf = model.surface()
-    y0 = model.initial_state()
+    y0 = model.initial_state() if initial_state is None else _initial_state(model, initial_state, p, surf)
     use_events = model.kind == k.KIND_DISK_WHEEL
     ts, ys, n_out, status, t_last, y_last, stats, ev_t, ev_y, ev_dir = integ.integrate(
         model.kind, p, surf, y0, 0.0, t_end, rtol, atol, method_id, 0.0, float(max_step), int(max_steps), t_eval,
@@ -105,6 +108,8 @@ def simulate(
     ys = ys[:n_out].copy()
     if isinstance(model, WheelsetModel):
         ds = _wheelset_dataset(model, ts, ys, p, surf)
+    elif isinstance(model, BogieModel):
+        ds = _bogie_dataset(model, ts, ys, p, surf)
     else:
         ds = _disk_wheel_dataset(model, ts, ys, p, surf, ev_t, ev_dir)
     ds.attrs.update(
@@ -122,6 +127,15 @@ def simulate(
     for name, value in model_fields(model).items():
         ds.attrs[f"model_{name}"] = value if not isinstance(value, bool) else int(value)
     return ds
+
+
+def _initial_state(model, initial_state, p, surf):
+    y0 = np.array(initial_state, dtype=float)
+    if y0.shape != (model.n_states,) or not np.all(np.isfinite(y0)):
+        raise ScenarioError(f"initial_state: must be {model.n_states} finite numbers, got shape {y0.shape}")
+    if model.kind == k.KIND_DISK_WHEEL and k.event(model.kind, 0.0, y0, p, surf) <= 0.0:
+        raise ScenarioError("initial_state: the wheel starts above the rail (no contact)")
+    return y0
 
 
 def _var(dims, data, units, long_name):
@@ -178,3 +192,28 @@ def _disk_wheel_dataset(model, ts, ys, p, surf, ev_t, ev_dir):
         "event_direction": _var("event", np.asarray(ev_dir, dtype=np.int64), "1", "+1 contact regained, -1 contact lost"),
     }
     return xr.Dataset(data, coords={"time": _var("time", ts, "s", "time")})
+
+
+def _bogie_dataset(model, ts, ys, p, surf):
+    out = k.outputs(model.kind, ts, ys, p, surf, k.BG_N_OUTPUTS)
+    tw = ("time", "wheelset")
+    both = lambda j: np.stack([out[:, j], out[:, 5 + j]], axis=1)  # noqa: E731
+    data = {
+        "lateral_displacement": _var(tw, ys[:, [0, 2]], "m", "lateral displacement of the wheelset"),
+        "yaw_angle": _var(tw, ys[:, [1, 3]], "rad", "yaw angle of the wheelset"),
+        "lateral_velocity": _var(tw, ys[:, [6, 8]], "m s-1", "lateral velocity of the wheelset"),
+        "yaw_rate": _var(tw, ys[:, [7, 9]], "rad s-1", "yaw rate of the wheelset"),
+        "frame_lateral_displacement": _var("time", ys[:, 4], "m", "lateral displacement of the bogie frame"),
+        "frame_yaw_angle": _var("time", ys[:, 5], "rad", "yaw angle of the bogie frame"),
+        "frame_lateral_velocity": _var("time", ys[:, 10], "m s-1", "lateral velocity of the bogie frame"),
+        "frame_yaw_rate": _var("time", ys[:, 11], "rad s-1", "yaw rate of the bogie frame"),
+        "distance": _var("time", model.speed * ts, "m", "distance travelled"),
+        "frictional_power_left": _var(tw, both(0), "W", "frictional power in the left wheel's contact"),
+        "frictional_power_right": _var(tw, both(1), "W", "frictional power in the right wheel's contact"),
+        "flange_force": _var(tw, both(2), "N", "lateral flange force on the wheelset"),
+    }
+    coords = {
+        "time": _var("time", ts, "s", "time"),
+        "wheelset": xr.Variable("wheelset", np.array(["front", "rear"]), {"long_name": "wheelset of the bogie"}),
+    }
+    return xr.Dataset(data, coords=coords)
