@@ -120,7 +120,7 @@ def read_checkpoint(path):
     except (OSError, ValueError) as e:
         raise ScenarioError(f"checkpoint {path}: cannot be read ({e})") from None
     toml, digest = str(fields.pop("scenario")), str(fields.pop("scenario_hash"))
-    scalars = {"fingerprint": str, "intervals": int, "steps": int, "halvings": int}
+    scalars = {"fingerprint": str, "intervals": int, "halvings": int}
     for key, kind in scalars.items():
         fields[key] = kind(fields[key])
     return EvolutionCheckpoint(**fields), toml, digest

@@ -29,9 +29,9 @@ BLOWUP = 2
 
 @dataclass(frozen=True)
 class ETDCoefficients:
-    """ETDRK4 weights for a linear part ``L`` (real, shape ``(batch, nk)``) and step ``dt``."""
+    """ETDRK4 weights for a linear part ``L`` (real, shape ``(batch, nk)``) and the step of each row."""
 
-    dt: float
+    dt: np.ndarray
     E: np.ndarray
     E2: np.ndarray
     Q: np.ndarray
@@ -43,19 +43,21 @@ class ETDCoefficients:
 def etdrk4_coefficients(L, dt, n_contour=64):
     """ETDRK4 weights by the mean over ``n_contour`` points of a unit circle round each ``dt L``.
 
-    The contour mean avoids the cancellation of the closed forms near ``dt L = 0``
-    (Kassam & Trefethen 2005, eq. 2.5 and section 3).
+    ``L`` has shape ``(batch, nk)``; ``dt`` is one step or one per row. The contour mean avoids
+    the cancellation of the closed forms near ``dt L = 0`` (Kassam & Trefethen 2005, eq. 2.5 and
+    section 3).
     """
     L = np.asarray(L, dtype=float)
+    dt = np.broadcast_to(np.asarray(dt, dtype=float).reshape(-1, 1), (L.shape[0], 1))
     r = np.exp(1j * np.pi * (np.arange(1, n_contour + 1) - 0.5) / n_contour)
-    LR = dt * L[..., None] + r
+    LR = (dt * L)[..., None] + r
     eLR = np.exp(LR)
 
     def mean(z):
         return dt * np.mean(z, axis=-1).real
 
     return ETDCoefficients(
-        dt=float(dt),
+        dt=dt[:, 0].copy(),
         E=np.exp(dt * L),
         E2=np.exp(dt * L / 2),
         Q=mean((np.exp(LR / 2) - 1) / LR),
@@ -119,6 +121,7 @@ def _max_depth(u_ref, v, n, b):
 
 @njit(cache=True)
 def _accept(v, v_new, n, active, stop_time, t_step, dt, u_ref, depth_limit, blowup):
+    # ``t_step`` and ``dt`` hold the time at the start of the step and the step of each row.
     """Copy ``v_new`` into the active rows of ``v``; returns ``(status, all_rows_stopped)``.
 
     A non-finite value or an amplitude above ``blowup`` leaves ``v`` untouched. With
@@ -143,7 +146,7 @@ def _accept(v, v_new, n, active, stop_time, t_step, dt, u_ref, depth_limit, blow
                 d_old = _max_depth(u_ref, v, n, b)
                 theta = (depth_limit - d_old) / (d_new - d_old) if d_new > d_old else 1.0
                 v[b] = v[b] + theta * (v_new[b] - v[b])
-                stop_time[b] = t_step + theta * dt
+                stop_time[b] = t_step[b] + theta * dt[b]
                 active[b] = False
                 continue
         v[b] = v_new[b]
@@ -151,31 +154,61 @@ def _accept(v, v_new, n, active, stop_time, t_step, dt, u_ref, depth_limit, blow
 
 
 @njit(cache=True)
+def _rows(a, idx):
+    out = np.empty((idx.size,) + a.shape[1:], dtype=a.dtype)
+    for i in range(idx.size):
+        out[i] = a[idx[i]]
+    return out
+
+
+@njit(cache=True)
 def advance_compiled(
     v, n, E, E2, Q, f1, f2, f3, m_in, m_out, poly, tab_lo, tab_ds, tab_val, tab_der,
-    n_steps, dt, t0, active, stop_time, u_ref, depth_limit, blowup,
+    row_steps, dt, t0, active, stop_time, u_ref, depth_limit, blowup,
 ):
-    """Advance the spectra ``v`` in place by up to ``n_steps`` ETDRK4 steps of ``dt``.
+    """Advance the spectra ``v`` in place: row ``b`` by up to ``row_steps[b]`` steps of ``dt[b]``.
 
     Rows with ``active[b]`` False stay frozen; see :func:`_accept` for the depth stop and the
-    guard. Returns ``(status, steps_done)``; on a failed guard ``v`` holds the last good step.
+    guard. Only the rows that still have steps to take are transformed, gathered into one batch
+    that is rebuilt when a row finishes, so a batch costs what its rows cost apart. Returns
+    ``(status, steps_done)``; on a failed guard ``v`` holds the last good step of each row.
     """
-    for step in range(n_steps):
-        Nv = _nonlinear(v, n, m_in, m_out, poly, tab_lo, tab_ds, tab_val, tab_der)
-        a = E2 * v + Q * Nv
-        Na = _nonlinear(a, n, m_in, m_out, poly, tab_lo, tab_ds, tab_val, tab_der)
-        b = E2 * v + Q * Na
-        Nb = _nonlinear(b, n, m_in, m_out, poly, tab_lo, tab_ds, tab_val, tab_der)
-        c = E2 * a + Q * (2 * Nb - Nv)
-        Nc = _nonlinear(c, n, m_in, m_out, poly, tab_lo, tab_ds, tab_val, tab_der)
-        v_new = E * v + Nv * f1 + 2 * (Na + Nb) * f2 + Nc * f3
-        status, done = _accept(v, v_new, n, active, stop_time, t0 + step * dt, dt, u_ref,
-                               depth_limit, blowup)
+    nb = v.shape[0]
+    idx = np.arange(0)
+    for step in range(np.max(row_steps)):
+        running = np.nonzero(active & (row_steps > step))[0]
+        if running.size == 0:
+            return OK, step
+        if running.size != idx.size or np.any(running != idx):
+            idx = running
+            cE, cE2, cQ = _rows(E, idx), _rows(E2, idx), _rows(Q, idx)
+            cf1, cf2, cf3 = _rows(f1, idx), _rows(f2, idx), _rows(f3, idx)
+            cin, cout, cpoly = _rows(m_in, idx), _rows(m_out, idx), _rows(poly, idx)
+            clo, cds = _rows(tab_lo, idx), _rows(tab_ds, idx)
+            cval, cder, cref = _rows(tab_val, idx), _rows(tab_der, idx), _rows(u_ref, idx)
+            cdt = _rows(dt, idx)
+        cv = _rows(v, idx) if idx.size != nb else v
+        Nv = _nonlinear(cv, n, cin, cout, cpoly, clo, cds, cval, cder)
+        a = cE2 * cv + cQ * Nv
+        Na = _nonlinear(a, n, cin, cout, cpoly, clo, cds, cval, cder)
+        b = cE2 * cv + cQ * Na
+        Nb = _nonlinear(b, n, cin, cout, cpoly, clo, cds, cval, cder)
+        c = cE2 * a + cQ * (2 * Nb - Nv)
+        Nc = _nonlinear(c, n, cin, cout, cpoly, clo, cds, cval, cder)
+        v_new = cE * cv + Nv * cf1 + 2 * (Na + Nb) * cf2 + Nc * cf3
+        cactive = np.ones(idx.size, dtype=np.bool_)
+        cstop = _rows(stop_time, idx)
+        status, _ = _accept(cv, v_new, n, cactive, cstop, t0 + step * cdt, cdt, cref,
+                            depth_limit, blowup)
         if status != OK:
             return status, step
-        if done:
-            return OK, step + 1
-    return OK, n_steps
+        for i in range(idx.size):
+            if idx.size != nb:
+                v[idx[i]] = cv[i]
+            if not cactive[i]:
+                active[idx[i]] = False
+                stop_time[idx[i]] = cstop[i]
+    return OK, np.max(row_steps)
 
 
 def advance_python(v, co, nonlinear, n_steps, t0, active, stop_time, u_ref, depth_limit, blowup):
@@ -195,8 +228,8 @@ def advance_python(v, co, nonlinear, n_steps, t0, active, stop_time, u_ref, dept
         c = co.E2 * a + co.Q * (2 * Nb - Nv)
         Nc = nonlinear(c)
         v_new = co.E * v + Nv * co.f1 + 2 * (Na + Nb) * co.f2 + Nc * co.f3
-        status, done = _accept(v, v_new, n, active, stop_time, t0 + step * co.dt, co.dt, u_ref,
-                               depth_limit, blowup)
+        status, done = _accept(v, v_new, n, active, stop_time, t0 + step * co.dt, co.dt,
+                               u_ref, depth_limit, blowup)
         if status != OK:
             return status, step
         if done:

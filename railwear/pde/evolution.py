@@ -83,14 +83,14 @@ def _max_slope(form, s, u, ux, speeds):
 
 
 def _growth_bound(form, s, u, ux, speeds, k, epsilon, nu):
-    """Largest linear growth rate, frozen at the present curvatures, over the kept orders."""
+    """Largest linear growth rate per row, frozen at the present curvatures, over the kept orders."""
     low = np.empty(len(speeds))
     for b, speed in enumerate(speeds):
         if isinstance(form, BuiltinRate):
             low[b] = np.min(form.at_speed(speed).slope(s[b]))
         else:
             low[b] = np.min(form.slope(s[b], speed, u[b], ux[b]))
-    return float(np.max(dispersion(-np.minimum(low, 0.0)[:, None], k[None, :], epsilon, nu)))
+    return np.max(dispersion(-np.minimum(low, 0.0)[:, None], k[None, :], epsilon, nu), axis=1)
 
 
 @dataclass(frozen=True)
@@ -99,13 +99,13 @@ class EvolutionCheckpoint:
 
     ``fingerprint`` identifies the problem (initial state, speeds, ``h``, parameters); the rest is
     the loop's state: spectra saved so far with their times, the present spectra, the rows still
-    running and the stop times of the others, the steps per interval, the halvings spent and the
-    stabilisation ``S`` in force.
+    running and the stop times of the others, the steps per interval of each row, the halvings
+    spent and the stabilisation ``S`` in force.
     """
 
     fingerprint: str
     intervals: int
-    steps: int
+    steps: np.ndarray
     halvings: int
     stabilisation: np.ndarray
     spectra: np.ndarray
@@ -184,12 +184,13 @@ class _Problem:
                              self.epsilon, self.nu)
 
     def advance(self, v, co, n_steps, t0, active, stop_time, u_ref, depth_limit, blowup):
+        """Advance one output interval; ``n_steps`` per row (the Python path takes equal steps)."""
         if self.compiled:
             return etdrk4.advance_compiled(
                 v, self.n, co.E, co.E2, co.Q, co.f1, co.f2, co.f3, self.m_in, self.m_out,
                 self.poly, self.tab_lo, self.tab_ds, self.tab_val, self.tab_der,
                 n_steps, co.dt, t0, active, stop_time, u_ref, depth_limit, blowup)
-        return etdrk4.advance_python(v, co, self.nonlinear_python, n_steps, t0, active, stop_time,
+        return etdrk4.advance_python(v, co, self.nonlinear_python, int(n_steps[0]), t0, active, stop_time,
                                      u_ref, depth_limit, blowup)
 
     def tail(self, v):
@@ -249,18 +250,23 @@ def solve_evolution(
     n = u_start.shape[-1]
     problem = _Problem(form, n, speeds, float(epsilon), float(nu), dealias, stabilisation)
     v = np.fft.rfft(u_start, axis=-1)
-    if epsilon == 0 and nu == 0 and problem.growth_bound(v) > 0:
+    if epsilon == 0 and nu == 0 and np.any(problem.growth_bound(v) > 0):
         raise IllPosedError(
             "h decreases with u_xx at the start and neither epsilon nor nu regularises it: "
             "the equation is ill-posed", last_good=u_start, last_time=0.0)
     problem.set_stabilisation(v)
     interval = t_end / (n_save - 1)
     if dt is None:
-        dt = interval / max(1, math.ceil(interval * problem.growth_bound(v) / 0.25))
-        dt = min(dt, t_end / 200)
-    if not (np.isfinite(dt) and dt > 0):
+        # Each row its own step: the largest growth rate met sets σ Δt <= 0.25.
+        steps = np.ceil(interval * problem.growth_bound(v) / 0.25)
+        steps = np.maximum(steps, math.ceil(interval / (t_end / 200) * (1 - 1e-12)))
+    elif np.isfinite(dt) and dt > 0:
+        steps = np.full(len(speeds), math.ceil(interval / dt * (1 - 1e-12)))
+    else:
         raise ScenarioError(f"dt must be > 0, got {dt}")
-    steps = max(1, math.ceil(interval / dt * (1 - 1e-12)))
+    steps = np.maximum(steps, 1).astype(np.int64)
+    if not problem.compiled:
+        steps[:] = steps.max()
 
     tail_start, amp_start = problem.tail(v)
     tail_ref = np.maximum(tail_start, tail_tolerance * amp_start)
@@ -275,7 +281,7 @@ def solve_evolution(
     if resume is not None:
         if resume.fingerprint != fingerprint:
             raise ScenarioError("resume: the checkpoint belongs to another problem")
-        j, steps, halvings = resume.intervals, resume.steps, resume.halvings
+        j, steps, halvings = resume.intervals, resume.steps.copy(), resume.halvings
         v, active, stop_time = resume.spectra.copy(), resume.active.copy(), resume.stop_time.copy()
         saved, times = list(resume.saved), list(resume.times)
         problem.set_stabilisation(v, resume.stabilisation)
@@ -292,7 +298,7 @@ def solve_evolution(
             if halvings > max_halvings:
                 raise NumericalInstabilityError(
                     f"the solution blew up near T = {t0:.4g} even with the step cut to "
-                    f"{interval / steps:.3g}", last_good=np.fft.irfft(v, n, axis=-1), last_time=t0)
+                    f"{interval / steps.max():.3g}", last_good=np.fft.irfft(v, n, axis=-1), last_time=t0)
             steps *= 2
             problem.set_stabilisation(v)
             coefficients = etdrk4.etdrk4_coefficients(problem.L, interval / steps)
@@ -312,7 +318,7 @@ def solve_evolution(
         saved.append(v.copy())
         times.append(j * interval)
         if checkpoint is not None:
-            checkpoint(EvolutionCheckpoint(fingerprint, j, steps, halvings, problem.S.copy(),
+            checkpoint(EvolutionCheckpoint(fingerprint, j, steps.copy(), halvings, problem.S.copy(),
                                            v.copy(), active.copy(), stop_time.copy(),
                                            np.array(saved), np.array(times)))
         if progress is not None:
@@ -334,20 +340,23 @@ def _dataset(u, times, angle, speeds, batch_dim, stop, problem, form, dt, dealia
     }
     u_attrs = {"units": "m", "long_name": "radius deviation from the nominal radius"}
     stop_attrs = {"units": "1", "long_name": "normed time at which the run stopped"}
+    step_attrs = {"units": "1", "long_name": "time step of the run"}
     if batch_dim is None:
         data = {"u": (("time", "angle"), u[:, 0, :], u_attrs),
-                "stop_time": ((), stop[0], stop_attrs)}
+                "stop_time": ((), stop[0], stop_attrs), "time_step": ((), dt[0], step_attrs)}
         coords["speed"] = ((), speeds[0], {"units": "m s-1", "long_name": "vehicle speed"})
     else:
         data = {"u": (("time", batch_dim, "angle"), u, u_attrs),
-                "stop_time": ((batch_dim,), stop, stop_attrs)}
+                "stop_time": ((batch_dim,), stop, stop_attrs),
+                "time_step": ((batch_dim,), dt, step_attrs)}
         if batch_dim == "speed":
             coords["speed"] = ("speed", speeds, {"units": "m s-1", "long_name": "vehicle speed"})
         else:
             coords["member"] = ("member", np.arange(len(speeds)), {"long_name": "batch member"})
             coords["speed"] = ((), speeds[0], {"units": "m s-1", "long_name": "vehicle speed"})
     attrs = {
-        "h_form": form.name, "epsilon": problem.epsilon, "nu": problem.nu, "time_step": dt,
+        "h_form": form.name, "epsilon": problem.epsilon, "nu": problem.nu,
+        "time_step": float(np.min(dt)),
         "dealias": int(dealias), "stabilisation": float(np.max(problem.S)),
         "depth_limit": float(depth_limit) if depth_limit is not None else 0.0,
         "method": "pseudo-spectral Fourier, ETDRK4 (Kassam & Trefethen 2005)",

@@ -41,7 +41,8 @@ def _ks_run(dt, n=64, t_end=10.0):
     no_table = np.zeros((1, 0))
     status, done = etdrk4.advance_compiled(
         v, n, co.E, co.E2, co.Q, co.f1, co.f2, co.f3, m_in, m_out, np.array([[0.0, 0.0, 1.0]]),
-        np.zeros(1), np.ones(1), no_table, no_table, int(round(t_end / dt)), dt, 0.0,
+        np.zeros(1), np.ones(1), no_table, no_table, np.array([int(round(t_end / dt))]),
+        np.array([dt]), 0.0,
         np.ones(1, bool), np.zeros(1), np.zeros((1, n)), 0.0, 1e300)
     assert status == etdrk4.OK
     return np.fft.irfft(v, n)[0]
