@@ -21,7 +21,7 @@ import numpy as np
 
 from railwear.errors import NumericalInstabilityError, ScenarioError
 
-__all__ = ["GGLProblem", "GGLSolution", "solve_ggl", "planar_pendulum"]
+__all__ = ["GGLProblem", "GGLSolution", "solve_ggl", "planar_pendulum", "wheelset_ggl_problem"]
 
 
 @dataclass(frozen=True)
@@ -120,4 +120,40 @@ def planar_pendulum(mass=1.0, length=1.0, gravity=9.81) -> GGLProblem:
         force=lambda t, q, v: weight,
         constraint=lambda q: np.array([0.5 * (q[0] ** 2 + q[1] ** 2 - length**2)]),
         constraint_jacobian=lambda q: q.reshape(1, 2),
+    )
+
+
+def wheelset_ggl_problem(model, roll_inertia, gravity=9.81) -> GGLProblem:
+    """The suspended wheelset of ``model`` (a ``WheelsetModel``) with vertical motion and roll
+    restricted by the contact constraints of conical wheels on knife-edge rails.
+
+    Coordinates ``q = [y, z, phi, psi]`` (lateral, vertical from nominal, roll, yaw); the wheel
+    over each rail touches it: ``g_left = z + e phi - lam y``, ``g_right = z - e phi + lam y``
+    (contact geometry linearised in ``y`` and ``phi``). The multipliers are minus the normal
+    forces, ``N_left + N_right = m g`` in the mean. Creep, suspension and flange forces come from
+    the compiled wheelset kernel. Eliminating ``z`` and ``phi = lam y / e`` gives the minimal
+    ODE with the lateral mass ``m + I_x (lam / e)^2``.
+    """
+    from railwear.dynamics import kernels as k
+
+    e, lam = model.half_gauge, model.conicity
+    mass_matrix = np.diag([model.mass, model.mass, roll_inertia, model.yaw_inertia])
+    p = model.params()
+    p[k.WS_MASS] = 1.0  # the kernel then returns forces and moments
+    p[k.WS_YAW_INERTIA] = 1.0
+    surf = np.zeros(0)
+    jac = np.array([[-lam, 1.0, e, 0.0], [lam, 1.0, -e, 0.0]])
+    out = np.empty(4)
+
+    def force(t, q, v):
+        k.rhs(k.KIND_WHEELSET, t, np.array([q[0], q[3], v[0], v[3]]), p, surf, out)
+        return np.array([out[2], -model.mass * gravity, 0.0, out[3]])
+
+    return GGLProblem(
+        n_coordinates=4,
+        n_constraints=2,
+        mass=lambda q: mass_matrix,
+        force=force,
+        constraint=lambda q: jac @ q,
+        constraint_jacobian=lambda q: jac,
     )
