@@ -8,3 +8,4 @@ from railwear.geometry.profiles import (  # noqa: E402
     read_simpack_profile,
     worn_profile,
 )
+from railwear.geometry.contact_geometry import contact_table, equivalent_conicity, gauge_point  # noqa: E402

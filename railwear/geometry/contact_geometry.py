@@ -1,0 +1,458 @@
+"""Contact geometry of a wheelset on straight track and contact tables over the lateral shift.
+
+Frames: track ``Y`` lateral (positive towards the right rail), ``Z`` downwards. The wheelset is
+shifted by ``y`` and rolled by ``θ`` (positive lowers the right wheel); a point at wheelset
+coordinates (lateral ``Y'``, depth below the axle ``D'``) lies at ``Y = y + Y' cos θ - D' sin θ``,
+``Z = Z0 + Y' sin θ + D' cos θ``. The right wheel is the profile as given (profile ``y`` outwards,
+see :mod:`railwear.geometry.profiles`) with its origin at ``Y' = back_to_back/2 +
+taping_line_offset``; the left one is its mirror image. Each rail is placed so that its gauge
+point (the gauge face at ``gauge_depth`` below the top, 14 mm) lies at ``±gauge/2``.
+
+For each shift the roll is solved so that both wheels touch their rails (rigid contact): the
+smallest vertical gap between wheel and rail is found on each side over the whole profile
+(coarse sampling, then golden-section refinement of every local minimum), and ``θ`` makes the
+two equal (Illinois regula falsi). The local minimum with zero gap is the contact point; a second
+local minimum is reported with its gap, so two-point contact (tread and flange) is seen as the
+second gap closing.
+
+Per contact the table holds the rolling radius, the contact angle ``δ`` (angle of the tangent
+plane to the track plane, positive when the rail normal points towards the track centre), the
+profile curvatures, Hertz's curvatures ``A = cos δ / (2 r)`` (rolling direction, straight rail)
+and ``B = (κ_rail + κ_wheel) / 2`` (lateral, convex positive), the normal force
+``N = Q / cos δ`` (``Q`` half the axle load, creep forces neglected), Hertz's semi-axes and
+Kalker's coefficients.
+"""
+
+import numpy as np
+import xarray as xr
+from numba import njit
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from railwear.contact import hertz_contact, kalker_coefficients
+from railwear.errors import ScenarioError
+from railwear.geometry.profiles import Profile
+
+__all__ = ["contact_table", "equivalent_conicity", "gauge_point"]
+
+_GOLDEN = 0.5 * (np.sqrt(5.0) - 1.0)
+_COARSE_STEP = 0.25e-3  # sampling of the wheel profile before refinement [m]
+_MAX_MINIMA = 6
+
+
+@njit(cache=True)
+def _spline(xb, c, x, nu):
+    """Piecewise cubic (scipy CubicSpline layout) or its derivative ``nu``; NaN outside."""
+    n = xb.shape[0] - 1
+    if x < xb[0] or x > xb[n]:
+        return np.nan
+    i = np.searchsorted(xb, x, side="right") - 1
+    if i >= n:
+        i = n - 1
+    if i < 0:
+        i = 0
+    t = x - xb[i]
+    if nu == 0:
+        return ((c[0, i] * t + c[1, i]) * t + c[2, i]) * t + c[3, i]
+    if nu == 1:
+        return (3.0 * c[0, i] * t + 2.0 * c[1, i]) * t + c[2, i]
+    return 6.0 * c[0, i] * t + 2.0 * c[1, i]
+
+
+@njit(cache=True)
+def _gap(yp, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0):
+    """Vertical gap rail - wheel (Z0 = 0) under wheel profile point yp; +inf off the rail."""
+    zw = _spline(wx, wc, yp, 0)
+    D = r0 + zw
+    Yp = side * (yw0 + yp)
+    Y = y_ws + Yp * cth - D * sth
+    Zw = Yp * sth + D * cth
+    yr = side * Y - yr0
+    zr = _spline(rx, rc, yr, 0)
+    if np.isnan(zr):
+        return np.inf
+    return zr - Zw
+
+
+@njit(cache=True)
+def _refine(lo, hi, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0):
+    """Golden-section minimum of the gap on [lo, hi]: (gap, yp)."""
+    a, b = lo, hi
+    x1 = b - _GOLDEN * (b - a)
+    x2 = a + _GOLDEN * (b - a)
+    f1 = _gap(x1, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+    f2 = _gap(x2, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+    for _ in range(60):
+        if f1 < f2:
+            b = x2
+            x2 = x1
+            f2 = f1
+            x1 = b - _GOLDEN * (b - a)
+            f1 = _gap(x1, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+        else:
+            a = x1
+            x1 = x2
+            f1 = f2
+            x2 = a + _GOLDEN * (b - a)
+            f2 = _gap(x2, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+        if b - a < 1e-12:
+            break
+    if f1 < f2:
+        return f1, x1
+    return f2, x2
+
+
+@njit(cache=True)
+def _minima(side, y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, only_global):
+    """Local minima of the gap along the wheel profile, refined; returns their number.
+
+    With ``only_global`` only the smallest one is refined (used inside the roll iteration).
+    """
+    cth = np.cos(theta)
+    sth = np.sin(theta)
+    n = grid.shape[0]
+    g = np.empty(n)
+    for k in range(n):
+        g[k] = _gap(grid[k], side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+    count = 0
+    if only_global:
+        k = np.argmin(g)
+        if not np.isfinite(g[k]):
+            return 0
+        lo = grid[max(k - 1, 0)]
+        hi = grid[min(k + 1, n - 1)]
+        gaps[0], where[0] = _refine(lo, hi, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+        return 1
+    for k in range(n):
+        if not np.isfinite(g[k]):
+            continue
+        left = g[k - 1] if k > 0 else np.inf
+        right = g[k + 1] if k < n - 1 else np.inf
+        if g[k] <= left and g[k] < right:
+            lo = grid[max(k - 1, 0)]
+            hi = grid[min(k + 1, n - 1)]
+            gk, yk = _refine(lo, hi, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+            duplicate = False
+            for m in range(count):
+                if abs(where[m] - yk) < 0.5e-3:
+                    duplicate = True
+                    if gk < gaps[m]:
+                        gaps[m] = gk
+                        where[m] = yk
+            if not duplicate and count < gaps.shape[0]:
+                gaps[count] = gk
+                where[count] = yk
+                count += 1
+    return count
+
+
+@njit(cache=True)
+def _roll_residual(y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where):
+    nr = _minima(1, y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, True)
+    gr = gaps[0] if nr > 0 else np.inf
+    nl = _minima(-1, y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, True)
+    gl = gaps[0] if nl > 0 else np.inf
+    return gr - gl, gr
+
+
+@njit(cache=True)
+def _solve_roll(y_ws, theta0, grid, wx, wc, rx, rc, yw0, yr0, r0):
+    """Roll angle with equal minimum gaps on both sides: (theta, z_drop, ok)."""
+    gaps = np.empty(1)
+    where = np.empty(1)
+    a = theta0
+    fa, _ = _roll_residual(y_ws, a, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+    if not np.isfinite(fa):
+        return np.nan, np.nan, False
+    step = 1e-3
+    b = a - step if fa < 0.0 else a + step
+    fb, _ = _roll_residual(y_ws, b, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+    tries = 0
+    while fa * fb > 0.0 and tries < 40:
+        step *= 2.0
+        a, fa = b, fb
+        b = a - step if fa < 0.0 else a + step
+        if abs(b) > 0.5:
+            return np.nan, np.nan, False
+        fb, _ = _roll_residual(y_ws, b, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+        if not np.isfinite(fb):
+            return np.nan, np.nan, False
+        tries += 1
+    if fa * fb > 0.0:
+        return np.nan, np.nan, False
+    # Illinois regula falsi on the bracket [a, b]
+    side_kept = 0
+    c = a
+    for _ in range(200):
+        c = b - fb * (b - a) / (fb - fa)
+        fc, _ = _roll_residual(y_ws, c, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+        if fc == 0.0 or abs(b - a) < 1e-14:
+            break
+        if fc * fb < 0.0:
+            a, fa = b, fb
+            side_kept = 0
+        else:
+            if side_kept == 1:
+                fa *= 0.5
+            side_kept = 1
+        b, fb = c, fc
+        if abs(fc) < 1e-15:
+            break
+    _, gr = _roll_residual(y_ws, c, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+    return c, gr, True
+
+
+@njit(cache=True)
+def _table_core(shifts, grid, wx, wc, rx, rc, yw0, yr0, r0, out_theta, out_drop, out_ok,
+                gaps_r, where_r, count_r, gaps_l, where_l, count_l):
+    """Solve every shift, continuing the roll angle from the previous (sorted) shift."""
+    theta = 0.0
+    for k in range(shifts.shape[0]):
+        th, drop, ok = _solve_roll(shifts[k], theta, grid, wx, wc, rx, rc, yw0, yr0, r0)
+        out_ok[k] = ok
+        if not ok:
+            out_theta[k] = np.nan
+            out_drop[k] = np.nan
+            continue
+        theta = th
+        out_theta[k] = th
+        out_drop[k] = drop
+        count_r[k] = _minima(1, shifts[k], th, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps_r[k], where_r[k], False)
+        count_l[k] = _minima(-1, shifts[k], th, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps_l[k], where_l[k], False)
+
+
+def gauge_point(rail, depth=0.014):
+    """Lateral profile coordinate [m] of the rail's gauge face at ``depth`` below the top."""
+    y = np.linspace(rail.span[0], rail.span[1], 4001)
+    z = rail(y)
+    top = int(np.argmin(z))
+    below = np.nonzero(z[: top + 1] >= z[top] + depth)[0]
+    if below.size == 0:
+        raise ScenarioError(f"rail profile {rail.name!r} has no gauge face {depth * 1e3:g} mm below its top")
+    k = below[-1]
+    return brentq(lambda s: rail(s) - z[top] - depth, y[k], y[k + 1], xtol=1e-13)
+
+
+def _order_contacts(gaps, where, count):
+    """Primary (smallest gap) and secondary contact per shift: (gap1, y1, gap2, y2)."""
+    n = gaps.shape[0]
+    g1 = np.full(n, np.nan)
+    y1 = np.full(n, np.nan)
+    g2 = np.full(n, np.inf)
+    y2 = np.full(n, np.nan)
+    for k in range(n):
+        m = count[k]
+        if m == 0:
+            continue
+        order = np.argsort(gaps[k, :m])
+        g1[k], y1[k] = gaps[k, order[0]], where[k, order[0]]
+        if m > 1:
+            g2[k], y2[k] = gaps[k, order[1]], where[k, order[1]]
+    return g1, y1, g2, y2
+
+
+def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360, axle_load=133.4e3,
+                  y=None, rolling_radius=0.46, taping_line_offset=0.070, gauge_depth=0.014,
+                  youngs_modulus=2.1e11, poisson=0.28, two_point_gap=1e-5):
+    """Contact table of a symmetric wheelset on straight track, as an ``xarray.Dataset`` over ``y``.
+
+    wheel, rail: :class:`~railwear.geometry.profiles.Profile` (right-hand side; the left side is
+    the mirror image); gauge [m]; cant: rail inclination (1/40; profiles that already carry an
+    inclination are rotated only by the difference); back_to_back [m] between the wheels' inner
+    faces; axle_load [N] (vertical load of the wheelset on the track); y: lateral shifts [m]
+    (default -10 ... 10 mm, 0.1 mm); rolling_radius r0 [m] at the profile origin (taping line);
+    taping_line_offset [m] from the inner face to the profile origin; gauge_depth [m];
+    youngs_modulus [Pa], poisson [-] of both bodies; two_point_gap [m]: a secondary contact
+    whose gap is below it counts as two-point contact.
+
+    Variables (dims y or (y, side)) carry CF ``units`` and ``long_name``; see the module
+    docstring for the definitions.
+    """
+    if not isinstance(wheel, Profile) or not isinstance(rail, Profile):
+        raise ScenarioError("wheel and rail must be Profile objects (see load_profile)")
+    if wheel.kind != "wheel" or rail.kind != "rail":
+        raise ScenarioError(f"wheel/rail profile kinds are {wheel.kind!r}/{rail.kind!r}, expected 'wheel'/'rail'")
+    for name, value in (("gauge", gauge), ("back_to_back", back_to_back), ("rolling_radius", rolling_radius),
+                        ("axle_load", axle_load), ("youngs_modulus", youngs_modulus)):
+        if not np.isfinite(value) or value <= 0:
+            raise ScenarioError(f"{name} must be a positive number, got {value}")
+    if y is None:
+        y = np.round(np.linspace(-0.010, 0.010, 201), 12)
+    shifts = np.atleast_1d(np.asarray(y, dtype=float))
+    if not np.all(np.isfinite(shifts)) or shifts.ndim != 1:
+        raise ScenarioError("y must be a 1-D array of finite lateral shifts")
+    rail_c = rail.canted(cant)
+    y_gauge = gauge_point(rail_c, gauge_depth)
+    yr0 = 0.5 * gauge - y_gauge
+    yw0 = 0.5 * back_to_back + taping_line_offset
+    wx, wc = (np.ascontiguousarray(a, dtype=float) for a in wheel.spline_coefficients())
+    rx, rc = (np.ascontiguousarray(a, dtype=float) for a in rail_c.spline_coefficients())
+    lo, hi = wheel.span
+    grid = np.arange(lo, hi + 0.5 * _COARSE_STEP, _COARSE_STEP)
+    grid = grid[grid <= hi]
+
+    # solve outwards from the shift nearest zero, so that the roll angle is continued smoothly
+    order = np.argsort(np.abs(shifts), kind="stable")
+    n = shifts.size
+    theta = np.empty(n)
+    drop = np.empty(n)
+    ok = np.zeros(n, dtype=np.bool_)
+    gaps_r = np.full((n, _MAX_MINIMA), np.inf)
+    where_r = np.full((n, _MAX_MINIMA), np.nan)
+    gaps_l = np.full((n, _MAX_MINIMA), np.inf)
+    where_l = np.full((n, _MAX_MINIMA), np.nan)
+    count_r = np.zeros(n, dtype=np.int64)
+    count_l = np.zeros(n, dtype=np.int64)
+    for sign in (1.0, -1.0):
+        sel = order[(np.sign(shifts[order]) == sign) | ((shifts[order] == 0.0) & (sign > 0))]
+        if sel.size == 0:
+            continue
+        th, dr, okk = np.empty(sel.size), np.empty(sel.size), np.zeros(sel.size, dtype=np.bool_)
+        gr, wr = np.full((sel.size, _MAX_MINIMA), np.inf), np.full((sel.size, _MAX_MINIMA), np.nan)
+        gl, wl = np.full((sel.size, _MAX_MINIMA), np.inf), np.full((sel.size, _MAX_MINIMA), np.nan)
+        cr, cl = np.zeros(sel.size, dtype=np.int64), np.zeros(sel.size, dtype=np.int64)
+        _table_core(np.ascontiguousarray(shifts[sel]), grid, wx, wc, rx, rc, yw0, yr0, rolling_radius,
+                    th, dr, okk, gr, wr, cr, gl, wl, cl)
+        theta[sel], drop[sel], ok[sel] = th, dr, okk
+        gaps_r[sel], where_r[sel], count_r[sel] = gr, wr, cr
+        gaps_l[sel], where_l[sel], count_l[sel] = gl, wl, cl
+    if not np.all(ok):
+        bad = shifts[~ok][0]
+        raise ScenarioError(
+            f"wheel and rail profiles never touch at y = {bad * 1e3:.3g} mm (check gauge, back_to_back, cant)"
+        )
+
+    sides = []
+    for side, gaps, where, count in ((1.0, gaps_r, where_r, count_r), (-1.0, gaps_l, where_l, count_l)):
+        g1, yp1, g2, yp2 = _order_contacts(gaps, where, count)
+        g1 = g1 - drop
+        g2 = g2 - drop
+        D = rolling_radius + wheel(yp1)
+        Yp = side * (yw0 + yp1)
+        Y = shifts + Yp * np.cos(theta) - D * np.sin(theta)
+        yr1 = side * Y - yr0
+        D2 = rolling_radius + wheel(np.where(np.isfinite(yp2), yp2, 0.0))
+        Yp2 = side * (yw0 + np.where(np.isfinite(yp2), yp2, 0.0))
+        yr2 = np.where(np.isfinite(yp2), side * (shifts + Yp2 * np.cos(theta) - D2 * np.sin(theta)) - yr0, np.nan)
+        sides.append(dict(g1=g1, yp1=yp1, yr1=yr1, Y=Y, g2=g2, yp2=yp2, yr2=yr2))
+
+    def stack(key):
+        return np.stack([s[key] for s in sides], axis=1)
+
+    yp1, yr1 = stack("yp1"), stack("yr1")
+    radius = rolling_radius + wheel(yp1)
+    slope = rail_c.slope(yr1)
+    delta = -np.arctan(slope)
+    kappa_rail = rail_c.curvature(yr1)
+    kappa_wheel = -wheel.curvature(yp1)
+    A = 0.5 * np.cos(delta) / radius
+    B = 0.5 * (kappa_rail + kappa_wheel)
+    conformal = B <= 0.0
+    Q = 0.5 * axle_load
+    N = Q / np.cos(delta)
+    h = hertz_contact(N, A, np.where(conformal, A, B), youngs_modulus, poisson)
+    a = np.where(conformal, np.nan, h.a)
+    b = np.where(conformal, np.nan, h.b)
+    c11, c22, c23, c33 = kalker_coefficients(np.where(conformal, 1.0, h.a / h.b), poisson)
+    yp2, yr2, g2 = stack("yp2"), stack("yr2"), stack("g2")
+    delta2 = np.where(np.isfinite(yr2), -np.arctan(rail_c.slope(np.where(np.isfinite(yr2), yr2, 0.0))), np.nan)
+    two_point = g2 < two_point_gap
+    dr = radius[:, 0] - radius[:, 1]
+
+    dims = ("y", "side")
+    ds = xr.Dataset(
+        data_vars=dict(
+            roll_angle=("y", theta, dict(units="rad", long_name="wheelset roll angle (positive lowers the right wheel)")),
+            axle_z=("y", drop, dict(units="m", long_name="vertical position of the axle (downwards), relative to the reference placement")),
+            rolling_radius_difference=("y", dr, dict(units="m", long_name="rolling radius difference right - left")),
+            rolling_radius=(dims, radius, dict(units="m", long_name="rolling radius at the contact point")),
+            contact_angle=(dims, delta, dict(units="rad", long_name="contact angle (positive towards the flange)")),
+            wheel_contact_y=(dims, yp1, dict(units="m", long_name="contact point on the wheel profile")),
+            rail_contact_y=(dims, yr1, dict(units="m", long_name="contact point on the rail profile")),
+            contact_Y=(dims, stack("Y"), dict(units="m", long_name="lateral track position of the contact point")),
+            wheel_curvature=(dims, kappa_wheel, dict(units="1/m", long_name="lateral wheel profile curvature (convex positive)")),
+            rail_curvature=(dims, kappa_rail, dict(units="1/m", long_name="lateral rail profile curvature (convex positive)")),
+            A=(dims, A, dict(units="1/m", long_name="Hertz curvature in the rolling direction")),
+            B=(dims, B, dict(units="1/m", long_name="Hertz curvature in the lateral direction")),
+            normal_force=(dims, N, dict(units="N", long_name="normal contact force")),
+            a=(dims, a, dict(units="m", long_name="contact ellipse semi-axis along rolling")),
+            b=(dims, b, dict(units="m", long_name="contact ellipse lateral semi-axis")),
+            c11=(dims, np.asarray(c11), dict(units="1", long_name="Kalker coefficient C11")),
+            c22=(dims, np.asarray(c22), dict(units="1", long_name="Kalker coefficient C22")),
+            c23=(dims, np.asarray(c23), dict(units="1", long_name="Kalker coefficient C23")),
+            c33=(dims, np.asarray(c33), dict(units="1", long_name="Kalker coefficient C33")),
+            second_gap=(dims, g2, dict(units="m", long_name="gap at the second-closest local contact point")),
+            second_wheel_contact_y=(dims, yp2, dict(units="m", long_name="second contact point on the wheel profile")),
+            second_contact_angle=(dims, delta2, dict(units="rad", long_name="contact angle at the second contact point")),
+            two_point_contact=(dims, two_point, dict(long_name=f"second contact within {two_point_gap:g} m")),
+        ),
+        coords=dict(
+            y=("y", shifts, dict(units="m", long_name="lateral shift of the wheelset (positive to the right)")),
+            side=("side", ["right", "left"], dict(long_name="wheel")),
+        ),
+        attrs=dict(
+            wheel_profile=wheel.name, rail_profile=rail.name, gauge=gauge, cant=cant, back_to_back=back_to_back,
+            axle_load=axle_load, nominal_rolling_radius=rolling_radius, taping_line_offset=taping_line_offset,
+            youngs_modulus=youngs_modulus, poisson=poisson,
+        ),
+    )
+    return ds
+
+
+def _klingel_conicity(y, dr, amplitude, e0, r0, lam_guess):
+    """Wavelength of ``y'' = -Δr(y)/(2 e0 r0)`` started at rest at ``amplitude``, as a conicity."""
+
+    def rhs(_, s):
+        return [s[1], -np.interp(s[0], y, dr) / (2.0 * e0 * r0)]
+
+    def turning(_, s):
+        return s[1]
+
+    turning.terminal = True
+    if not lam_guess > 0.0:
+        return 0.0
+    wavelength_guess = 2.0 * np.pi * np.sqrt(e0 * r0 / lam_guess)
+    span = 20.0 * wavelength_guess
+    options = dict(rtol=1e-10, atol=1e-14 * max(amplitude, 1e-6), max_step=wavelength_guess / 200.0)
+    state, travelled = np.array([amplitude, 0.0]), 0.0
+    for direction in (1.0, -1.0):  # to the opposite turning point and back
+        turning.direction = direction
+        sol = solve_ivp(rhs, (0.0, span), state, events=turning, **options)
+        if sol.t_events[0].size == 0:
+            return 0.0  # no restoring oscillation within 20 guessed wavelengths
+        travelled += sol.t_events[0][0]
+        state = sol.y_events[0][0]
+    return 4.0 * np.pi**2 * e0 * r0 / travelled**2
+
+
+def equivalent_conicity(table, amplitude, method="integration"):
+    """Equivalent conicity [-] by EN 15302 for a wheelset amplitude ``amplitude`` [m] (scalar or array).
+
+    method="integration" (EN 15302, Annex B): integrate the kinematic (Klingel) equation
+    ``y'' = -Δr(y) / (2 e0 r0)`` from ``y = amplitude`` at rest, take the wavelength ``L`` of the
+    oscillation and return ``λe = (2π)² e0 r0 / L²``; ``e0`` is half the distance between the
+    contact points and ``r0`` the rolling radius at ``y = 0``. method="regression" (Annex C):
+    slope of the least-squares line ``Δr = 2 λe y`` over ``|y| <= amplitude``. ``Δr(y)`` is the
+    table's ``rolling_radius_difference``, interpolated linearly.
+    """
+    y = np.asarray(table["y"].values, dtype=float)
+    dr = np.asarray(table["rolling_radius_difference"].values, dtype=float)
+    order = np.argsort(y)
+    y, dr = y[order], dr[order]
+    amp = np.atleast_1d(np.asarray(amplitude, dtype=float))
+    if np.any(amp <= 0) or np.any(amp > min(-y[0], y[-1])):
+        raise ScenarioError(f"amplitude must lie in (0, {min(-y[0], y[-1]):g}] m, the range of the table")
+    at0 = table.sel(y=0.0, method="nearest")
+    e0 = 0.5 * float(at0["contact_Y"].sel(side="right") - at0["contact_Y"].sel(side="left"))
+    r0 = float(at0["rolling_radius"].mean())
+    if method not in ("integration", "regression"):
+        raise ScenarioError(f"method must be 'integration' or 'regression', got {method!r}")
+    out = np.empty(amp.size)
+    for k, A in enumerate(amp):
+        m = np.abs(y) <= A + 1e-15
+        lam_reg = np.sum(dr[m] * y[m]) / (2.0 * np.sum(y[m] ** 2))
+        if method == "regression":
+            out[k] = lam_reg
+            continue
+        out[k] = _klingel_conicity(y, dr, A, e0, r0, lam_reg)
+    return out[0] if np.ndim(amplitude) == 0 else out
