@@ -177,6 +177,69 @@ def stability(
 
 
 @app.command()
+def sweep(
+    scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name")] = None,
+    vary: Annotated[list[str], typer.Option(help="NAME=A:B:STEP or NAME=v1,v2,... (a dotted scenario field); repeat for more")] = [],
+    samples: Annotated[Optional[int], typer.Option(help="Latin hypercube of N points over the --vary ranges instead of the grid")] = None,
+    seed: Annotated[int, typer.Option(help="seed of the random design")] = 0,
+    output: Annotated[Path, typer.Option("-o", "--output", help="sweep store directory")] = Path("railwear-sweep"),
+    workers: Annotated[Optional[int], typer.Option(help="local worker processes (default: all cores)")] = None,
+    scheduler: Annotated[Optional[str], typer.Option(help="Dask scheduler address, tcp://HOST:PORT")] = None,
+    scheduler_file: Annotated[Optional[Path], typer.Option(help="Dask scheduler file")] = None,
+    batch: Annotated[bool, typer.Option(help="run a grid over the speed alone as one batched solve")] = True,
+):
+    """Run a scenario over a grid or sample of fields; DIR/sweep.nc, DIR/points/, sweep.png."""
+    from railwear import api, plots, sweep as sweeps
+
+    if not vary:
+        _fail("--vary: give at least one NAME=A:B:STEP", 2)
+    try:
+        base = api.load_scenario(scenario)
+        varies = [sweeps.parse_vary(v) for v in vary]
+        for assignment in sweeps.design(varies, samples, seed)[1][:1]:
+            sweeps.with_values(base, assignment)  # a bad field fails here, before any worker starts
+        executor = None
+        if scheduler or scheduler_file:
+            try:
+                executor = sweeps.DaskExecutor(scheduler, scheduler_file)
+            except ImportError:
+                _fail("--scheduler needs Dask: pip install 'railwear[cluster]'", 2)
+            except OSError as e:
+                _fail(f"--scheduler: cannot reach the Dask scheduler: {e}", 2)
+        elif workers is not None:
+            if workers < 1:
+                _fail("--workers must be at least 1", 2)
+            executor = sweeps.LocalExecutor(workers)
+        with _Progress(f"railwear sweep {base.name}") as progress:
+            ds = sweeps.run_sweep(base, varies, output, samples, seed, executor, progress,
+                                  batch="auto" if batch else False)
+        if executor is not None:
+            executor.close()
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    plots.save(plots.sweep(ds), output / "sweep.png")
+    _print_sweep_table(ds)
+    failed = int((ds.error != "").sum())
+    typer.echo(f"wrote {output / 'sweep.nc'}" + (f"; {failed} point(s) failed, see the error variable" if failed else ""))
+
+
+def _print_sweep_table(ds):
+    from rich.console import Console
+    from rich.table import Table
+
+    fields = [c for c in ds.coords if c != "angle"]
+    table = Table(*fields, "regime", "maxima", "order", "depth (mm)", "p-p end/start")
+    flat = ds.drop_vars("u_final", errors="ignore").stack(point=list(ds.regime.dims)) if ds.regime.ndim > 1 else ds
+    for i in range(flat.regime.size):
+        p = flat.isel({flat.regime.dims[0]: i})
+        ratio = float(p.peak_to_peak / p.peak_to_peak_initial) if float(p.peak_to_peak_initial) else float("nan")
+        table.add_row(*(f"{float(p[f]):g}" for f in fields), str(p.regime.values),
+                      f"{float(p.maxima):.0f}", f"{float(p.dominant_order):.0f}",
+                      f"{float(p.max_removed_depth) * 1e3:.3f}", f"{ratio:.2f}")
+    Console(width=120).print(table)
+
+
+@app.command()
 def scenarios():
     """List the built-in scenarios."""
     from railwear.scenario import DEFAULT, builtin_names, load_scenario

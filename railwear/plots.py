@@ -103,3 +103,44 @@ def save(fig, path):
 def write_figures(ds, directory):
     """Every figure of a result as ``DIRECTORY/NAME.png``; returns the paths."""
     return [save(make(ds), Path(directory) / f"{name}.png") for name, make in FIGURES.items()]
+
+
+REGIME_COLOURS = {"stable": "#4daf4a", "smoothing": "#377eb8", "onset": "#ff7f00",
+                  "polygonalising": "#e41a1c", "failed": "#999999"}
+
+
+def sweep(ds):
+    """The regime over the varied fields: a line for one field, a map for two, points for samples."""
+    from matplotlib.patches import Patch
+
+    fields = [c for c in ds.coords if c != "angle"]
+    regimes = ds.regime.values
+    colours = np.vectorize(lambda r: REGIME_COLOURS.get(str(r), "#999999"))(regimes)
+    growth = (ds.peak_to_peak / ds.peak_to_peak_initial).values
+    fig, (ax,) = _figure(7, 4.5)
+    if "sample" in ds.dims or len(fields) > 2:
+        x = ds[fields[0]].values.ravel()
+        y = ds[fields[1]].values.ravel() if len(fields) > 1 else growth.ravel()
+        ax.scatter(x, y, c=colours.ravel(), s=30)
+        ax.set(xlabel=fields[0], ylabel=fields[1] if len(fields) > 1 else "peak-to-peak end / start")
+    elif len(fields) == 1:
+        x = ds[fields[0]].values
+        ax.plot(x, growth, color="k", lw=1)
+        ax.scatter(x, growth, c=colours, s=40, zorder=3)
+        for xi, gi, m in zip(x, growth, ds.maxima.values):
+            if np.isfinite(m):
+                ax.annotate(f"{int(m)}", (xi, gi), textcoords="offset points", xytext=(0, 6),
+                            ha="center", fontsize="small")
+        ax.set(xlabel=fields[0], ylabel="peak-to-peak end / start (labels: maxima)", yscale="log")
+    else:
+        x, y = ds[fields[0]].values, ds[fields[1]].values
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        ax.scatter(X.ravel(), Y.ravel(), c=colours.ravel(), s=120, marker="s")
+        for xi, yi, m in zip(X.ravel(), Y.ravel(), ds.maxima.values.ravel()):
+            if np.isfinite(m):
+                ax.annotate(f"{int(m)}", (xi, yi), ha="center", va="center", fontsize="x-small", color="w")
+        ax.set(xlabel=fields[0], ylabel=fields[1])
+    present = [r for r in REGIME_COLOURS if r in set(map(str, regimes.ravel()))]
+    ax.legend(handles=[Patch(color=REGIME_COLOURS[r], label=r) for r in present], fontsize="small")
+    ax.set_title("regime over the sweep")
+    return fig

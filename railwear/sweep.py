@@ -1,0 +1,312 @@
+"""Parameter sweeps: many scenarios as one study, on local worker processes or a Dask cluster (layer 4).
+
+A sweep varies numeric scenario fields (dotted paths such as ``operation.speed_kmh``) over a grid,
+a list or a Latin hypercube. Every point is a full scenario, validated like a file. Each finished
+point is written to ``STORE/points/KEY.nc`` (``KEY`` from the point's scenario hash) as it
+completes, so a sweep that is stopped and run again computes only what is missing; a point that
+fails is recorded with its error and the others go on.
+"""
+
+import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
+from itertools import product
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from pydantic import ValidationError
+
+from railwear.errors import RailwearError, ScenarioError
+from railwear.scenario import Scenario, _one_line, scenario_hash, to_toml
+
+SPEED_FIELDS = ("operation.speed_kmh", "operation.speed_m_s")
+POINT_SCALARS = {
+    "dominant_order": ("1", "order of the largest harmonic at the end"),
+    "maxima": ("1", "radius maxima round the wheel at the end"),
+    "max_removed_depth": ("m", "largest radius lost (most worn spot)"),
+    "peak_to_peak": ("m", "peak-to-peak deviation at the end"),
+    "peak_to_peak_initial": ("m", "peak-to-peak deviation at the start"),
+    "stop_time": ("1", "normed time at which the run stopped"),
+}
+
+
+@dataclass(frozen=True)
+class Vary:
+    """A varied field: explicit ``values``, or a ``[low, high]`` range for random designs."""
+
+    field: str
+    values: tuple
+    low: float
+    high: float
+
+
+def parse_vary(text):
+    """``NAME=A:B:STEP`` (B included) or ``NAME=v1,v2,...``."""
+    name, sep, spec = text.partition("=")
+    name = name.strip()
+    if not sep or not name or not spec:
+        raise ScenarioError(f"--vary {text!r}: expected NAME=A:B:STEP or NAME=v1,v2,...")
+    try:
+        if ":" in spec:
+            a, b, step = (float(p) for p in spec.split(":"))
+            if not (step > 0 and b >= a):
+                raise ValueError
+            values = np.arange(a, b + step / 2, step)
+        else:
+            values = np.array([float(p) for p in spec.split(",")])
+    except ValueError:
+        raise ScenarioError(
+            f"--vary {name}: expected A:B:STEP with STEP > 0 and B >= A, or v1,v2,...") from None
+    return Vary(name, tuple(float(v) for v in values), float(values.min()), float(values.max()))
+
+
+def with_values(base: Scenario, assignment: dict):
+    """The scenario ``base`` with dotted fields set, validated again (errors name the field)."""
+    data = base.model_dump(mode="python")
+    for path, value in assignment.items():
+        node, keys = data, path.split(".")
+        for key in keys[:-1]:
+            if not isinstance(node.get(key), dict):
+                raise ScenarioError(f"--vary {path}: no such scenario field")
+            node = node[key]
+        if keys[-1] not in node and not (path in SPEED_FIELDS):
+            raise ScenarioError(f"--vary {path}: no such scenario field")
+        current = node.get(keys[-1])
+        if current is not None and (isinstance(current, bool) or not isinstance(current, (int, float))):
+            raise ScenarioError(f"--vary {path}: not a numeric field")
+        node[keys[-1]] = int(round(value)) if isinstance(current, int) else float(value)
+        if path in SPEED_FIELDS:  # one speed field replaces the other
+            other = SPEED_FIELDS[1 - SPEED_FIELDS.index(path)].split(".")[-1]
+            node[other] = None
+    try:
+        return Scenario.model_validate(data)
+    except ValidationError as e:
+        raise ScenarioError(_one_line(e, "sweep point")) from None
+
+
+def design(varies, samples=None, seed=0):
+    """Points of the sweep: ``(coords, assignments)``.
+
+    Without ``samples`` the grid of all combinations, ``coords`` a dict ``field -> values``; with
+    ``samples`` a Latin hypercube of that many points over each field's ``[low, high]``
+    (scipy.stats.qmc), ``coords`` a dict ``field -> array over 'sample'``.
+    """
+    fields = [v.field for v in varies]
+    if len(set(fields)) != len(fields):
+        raise ScenarioError("--vary names a field twice")
+    if samples is None:
+        coords = {v.field: np.array(v.values) for v in varies}
+        points = [dict(zip(fields, combo)) for combo in product(*(v.values for v in varies))]
+        return coords, points
+    if samples < 1:
+        raise ScenarioError("--samples must be at least 1")
+    from scipy.stats import qmc
+
+    unit = qmc.LatinHypercube(d=len(varies), seed=seed).random(samples)
+    lows = np.array([v.low for v in varies])
+    highs = np.array([v.high for v in varies])
+    values = lows + unit * (highs - lows)
+    coords = {f: values[:, i] for i, f in enumerate(fields)}
+    return coords, [dict(zip(fields, row)) for row in values]
+
+
+def point_key(scenario):
+    return scenario_hash(scenario)[:16]
+
+
+def run_point(scenario_toml):
+    """Run one point (in a worker); returns its reduced result as a Dataset."""
+    from railwear import api
+    from railwear.scenario import parse_scenario
+
+    return reduce_result(api.run(parse_scenario(scenario_toml, source="sweep point")))
+
+
+def reduce_result(ds):
+    """The part of a run a sweep keeps: final deviation, spectrum, regime and scalars."""
+    keep = ["amplitude", "regime", *POINT_SCALARS]
+    out = ds[[k for k in keep if k in ds and k != "max_removed_depth"]]
+    out["max_removed_depth"] = ds.removed_depth.isel(time=-1, drop=True).assign_attrs(
+        units="m", long_name=POINT_SCALARS["max_removed_depth"][1])
+    out["u_final"] = (ds.u.isel(time=-1, drop=True) - ds.u.isel(time=-1, drop=True).mean("angle")).assign_attrs(
+        units="m", long_name="radius deviation less its mean at the end")
+    out = out.drop_vars([c for c in ("distance", "time") if c in out.coords])
+    out.attrs = {k: ds.attrs[k] for k in ("scenario", "scenario_hash", "railwear_version") if k in ds.attrs}
+    return out
+
+
+class LocalExecutor:
+    """Worker processes on this machine (``workers`` defaults to the number of cores)."""
+
+    def __init__(self, workers=None):
+        import multiprocessing
+
+        self.workers = workers or os.cpu_count() or 1
+        self.pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"))
+
+    def submit(self, fn, arg, key):
+        return self.pool.submit(fn, arg)
+
+    def as_completed(self, futures):
+        return as_completed(futures)
+
+    def close(self):
+        self.pool.shutdown(cancel_futures=True)
+
+
+class SerialExecutor:
+    """In this process, one point after the other, each run as the sweep asks for its result."""
+
+    class _Deferred:
+        def __init__(self, fn, arg):
+            self.fn, self.arg = fn, arg
+
+        def result(self):
+            return self.fn(self.arg)
+
+    def submit(self, fn, arg, key):
+        return self._Deferred(fn, arg)
+
+    def as_completed(self, futures):
+        return iter(futures)
+
+    def close(self):
+        pass
+
+
+class DaskExecutor:
+    """A Dask distributed cluster at ``address`` (``tcp://HOST:PORT``) or from a scheduler file.
+
+    Tasks of a lost worker are retried ``retries`` times by Dask.
+    """
+
+    def __init__(self, address=None, scheduler_file=None, retries=2):
+        from distributed import Client
+
+        self.client = Client(address, scheduler_file=scheduler_file, set_as_default=False)
+        self.retries = retries
+
+    def submit(self, fn, arg, key):
+        return self.client.submit(fn, arg, key=f"railwear-{key}", retries=self.retries, pure=False)
+
+    def as_completed(self, futures):
+        from distributed import as_completed as dask_completed
+
+        return dask_completed(futures, loop=self.client.loop)
+
+    def close(self):
+        self.client.close()
+
+
+def _write_point(store, key, ds):
+    from railwear import results
+
+    results.write_netcdf(ds, store / "points" / f"{key}.nc")
+
+
+def _batched_speeds(base, varies, samples):
+    """Whether the sweep is a grid over the speed alone, which one batched solve does best."""
+    return samples is None and len(varies) == 1 and varies[0].field in SPEED_FIELDS and \
+        isinstance(base.operation.speeds, float)
+
+
+def run_sweep(base: Scenario, varies, store, samples=None, seed=0, executor=None, progress=None,
+              batch="auto"):
+    """Run every point of the design; returns the combined Dataset (also ``STORE/sweep.nc``).
+
+    ``batch`` ('auto', True, False): a grid over the speed alone runs as one batched solve.
+    """
+    from railwear import api, results
+
+    store = Path(store)
+    (store / "points").mkdir(parents=True, exist_ok=True)
+    coords, assignments = design(varies, samples, seed)
+    scenarios = [with_values(base, a) for a in assignments]
+    keys = [point_key(s) for s in scenarios]
+    done = {k: results.read_netcdf(store / "points" / f"{k}.nc") for k in set(keys)
+            if (store / "points" / f"{k}.nc").exists()}
+    errors = {}
+    todo = [(k, s) for k, s in dict(zip(keys, scenarios)).items() if k not in done]
+    count = [len(keys) - len(todo)]
+
+    def finished(key, ds=None, error=None):
+        count[0] += 1
+        if error is None:
+            _write_point(store, key, ds)
+            done[key] = ds
+            (store / "points" / f"{key}.error").unlink(missing_ok=True)
+        else:
+            errors[key] = error
+            results.write_text(error + "\n", store / "points" / f"{key}.error")
+        if progress is not None:
+            progress(count[0] / len(keys))
+
+    use_batch = bool(todo) and (batch is True or (batch == "auto" and _batched_speeds(base, varies, samples)))
+    if use_batch:
+        field = varies[0].field
+        values = np.array([assignments[keys.index(k)][field] for k, _ in todo])
+        order = np.argsort(values)
+        data = base.model_dump(mode="python")
+        section = field.split(".")[-1]
+        data["operation"][section] = [float(values[j]) for j in order]
+        data["operation"][SPEED_FIELDS[1 - SPEED_FIELDS.index(field)].split(".")[-1]] = None
+        try:
+            reduced = reduce_result(api.run(Scenario.model_validate(data)))
+            for i, j in enumerate(order):
+                key, sc = todo[j]
+                point = reduced.isel(speed=i)
+                point.attrs.update(scenario=to_toml(sc), scenario_hash=scenario_hash(sc))
+                finished(key, point)
+            todo = []
+        except RailwearError:
+            pass  # one row failed the whole batch: fall back to points, which record it alone
+    if todo:
+        own = executor is None
+        executor = executor or LocalExecutor()
+        try:
+            futures = {executor.submit(run_point, to_toml(s), k): k for k, s in todo}
+            for future in executor.as_completed(list(futures)):
+                key = futures[future]
+                try:
+                    finished(key, future.result())
+                except Exception as e:  # noqa: BLE001  (a failing point must not stop the sweep)
+                    finished(key, error=f"{type(e).__name__}: {e}")
+        finally:
+            if own:
+                executor.close()
+    combined = combine(coords, keys, done, errors, samples is not None)
+    combined.attrs.update(base_scenario=to_toml(base), base_scenario_hash=scenario_hash(base),
+                          design="latin hypercube" if samples else "grid", seed=seed)
+    results.write_netcdf(combined, store / "sweep.nc")
+    return combined
+
+
+def combine(coords, keys, done, errors, random_design):
+    """One Dataset over the sweep dimensions (grid) or ``sample`` (random design)."""
+    fields = list(coords)
+    shape = (len(keys),) if random_design else tuple(len(v) for v in coords.values())
+    dims = ("sample",) if random_design else tuple(fields)
+    some = next(iter(done.values()), None)
+    data = {}
+    for name, (units, long_name) in POINT_SCALARS.items():
+        data[name] = (dims, np.array([float(done[k][name]) if k in done else np.nan for k in keys]).reshape(shape),
+                      {"units": units, "long_name": long_name})
+    data["regime"] = (dims, np.array([str(done[k].regime.values) if k in done else "failed" for k in keys],
+                                     dtype=object).reshape(shape).astype(str),
+                      {"long_name": "wear regime"})
+    data["error"] = (dims, np.array([errors.get(k, "") for k in keys], dtype=object).reshape(shape).astype(str),
+                     {"long_name": "error of a failed point (empty when it ran)"})
+    coord_vars = {}
+    if some is not None:
+        n_angle = some.sizes["angle"]
+        blank = np.full(n_angle, np.nan)
+        finals = [done[k].u_final.values if k in done and done[k].sizes["angle"] == n_angle else blank
+                  for k in keys]
+        data["u_final"] = (dims + ("angle",), np.array(finals).reshape(shape + (n_angle,)),
+                           dict(some.u_final.attrs))
+        coord_vars["angle"] = ("angle", some.angle.values, dict(some.angle.attrs))
+    for f, values in coords.items():
+        coord_vars[f] = (("sample",) if random_design else (f,), np.asarray(values),
+                         {"long_name": f"scenario field {f}"})
+    return xr.Dataset(data, coords=coord_vars)
