@@ -48,17 +48,19 @@ def _check_parameters(u0, t_end, speed, epsilon, nu, n_save):
     return u0, speed
 
 
-def _batch(u0, speed):
+def _batch(u0, speed, rows=1):
     """Broadcast ``u0`` and ``speed`` to ``(batch, n)`` and ``(batch,)``; name the batch dimension."""
     batch_dim = None
     if speed.ndim == 1:
         batch_dim = "speed"
-    elif u0.ndim == 2:
+    elif u0.ndim == 2 or rows > 1:
         batch_dim = "member"
-    n_rows = max(u0.shape[0] if u0.ndim == 2 else 1, speed.size if speed.ndim == 1 else 1)
-    u = np.broadcast_to(np.atleast_2d(u0), (n_rows, u0.shape[-1]))
+    n_rows = max(u0.shape[0] if u0.ndim == 2 else 1, speed.size if speed.ndim == 1 else 1, rows)
     if u0.ndim == 2 and u0.shape[0] != n_rows:
-        raise ScenarioError(f"u0 has {u0.shape[0]} rows but speed has {speed.size} values")
+        raise ScenarioError(f"u0 has {u0.shape[0]} rows but the batch has {n_rows}")
+    if speed.ndim == 1 and speed.size != n_rows:
+        raise ScenarioError(f"speed has {speed.size} values but the batch has {n_rows} rows")
+    u = np.broadcast_to(np.atleast_2d(u0), (n_rows, u0.shape[-1]))
     return np.array(u), np.broadcast_to(speed, (n_rows,)).astype(float), batch_dim
 
 
@@ -66,10 +68,10 @@ def _curvatures(v, k):
     return np.fft.irfft(-(k**2) * v, axis=-1)
 
 
-def _max_slope(form, s, u, ux, speeds):
+def _max_slope(forms, s, u, ux, speeds):
     """Largest ``∂h/∂u_xx`` per row over the present curvatures and a band four times as wide."""
     out = np.empty(len(speeds))
-    for b, speed in enumerate(speeds):
+    for b, (form, speed) in enumerate(zip(forms, speeds)):
         reach = 4 * max(float(np.max(np.abs(s[b]))), 1e-12)
         grid = np.linspace(-reach, reach, 201)
         if isinstance(form, BuiltinRate):
@@ -82,10 +84,10 @@ def _max_slope(form, s, u, ux, speeds):
     return out
 
 
-def _growth_bound(form, s, u, ux, speeds, k, epsilon, nu):
+def _growth_bound(forms, s, u, ux, speeds, k, epsilon, nu):
     """Largest linear growth rate per row, frozen at the present curvatures, over the kept orders."""
     low = np.empty(len(speeds))
-    for b, speed in enumerate(speeds):
+    for b, (form, speed) in enumerate(zip(forms, speeds)):
         if isinstance(form, BuiltinRate):
             low[b] = np.min(form.at_speed(speed).slope(s[b]))
         else:
@@ -127,8 +129,8 @@ def _fingerprint(u_start, speeds, form, *parameters):
 class _Problem:
     """The discretised equation for one set of rows, with the step-dependent weights."""
 
-    def __init__(self, form, n, speeds, epsilon, nu, dealias, stabilisation):
-        self.form, self.n, self.speeds = form, n, speeds
+    def __init__(self, forms, n, speeds, epsilon, nu, dealias, stabilisation):
+        self.forms, self.n, self.speeds = forms, n, speeds
         self.epsilon, self.nu = epsilon, nu
         self.k = wavenumbers(n)
         kept = n // 3 if dealias else n // 2 - 1
@@ -137,9 +139,9 @@ class _Problem:
         self.m_in = np.broadcast_to(-(self.k**2) + 0j, (len(speeds), self.k.size)).copy()
         self.m_out = np.broadcast_to(mask / (1 + nu * self.k**2) + 0j, self.m_in.shape).copy()
         self.fixed_stabilisation = stabilisation
-        self.compiled = isinstance(form, BuiltinRate)
+        self.compiled = all(isinstance(f, BuiltinRate) for f in forms)
         if self.compiled:
-            self.tables = [form.at_speed(float(v)) for v in speeds]
+            self.tables = [f.at_speed(float(v)) for f, v in zip(forms, speeds)]
 
     def set_stabilisation(self, v, S=None):
         """Choose ``S`` per row from the state ``v`` unless it was given; rebuild the weights' base."""
@@ -149,7 +151,7 @@ class _Problem:
             S = np.full(len(self.speeds), float(self.fixed_stabilisation))
         else:
             s, u, ux = self.fields(v)
-            S = np.maximum(_max_slope(self.form, s, u, ux, self.speeds), 0.0)
+            S = np.maximum(_max_slope(self.forms, s, u, ux, self.speeds), 0.0)
         self.S = S
         k2 = self.k**2
         self.L = -(self.epsilon * k2**2 + S[:, None] * k2) / (1 + self.nu * k2)
@@ -175,12 +177,12 @@ class _Problem:
 
     def nonlinear_python(self, v):
         s, u, ux = self.fields(v)
-        g = self.form(s, u, ux, self.speeds[:, None]) - self.S[:, None] * s
+        g = self.forms[0](s, u, ux, self.speeds[:, None]) - self.S[:, None] * s
         return np.fft.rfft(g, axis=-1) * self.m_out
 
     def growth_bound(self, v):
         s, u, ux = self.fields(v)
-        return _growth_bound(self.form, s, u, ux, self.speeds, self.k[: self.kept + 1],
+        return _growth_bound(self.forms, s, u, ux, self.speeds, self.k[: self.kept + 1],
                              self.epsilon, self.nu)
 
     def advance(self, v, co, n_steps, t0, active, stop_time, u_ref, depth_limit, blowup):
@@ -211,7 +213,8 @@ def solve_evolution(
     ----------
     u0 : array (angle,) or (batch, angle)
         Radius deviation on an even number of equally spaced angles ``2π j / n`` (m).
-    h : wear-rate form, name, or callable ``h(s, u, ux, speed)`` (see :mod:`railwear.pde.forms`).
+    h : wear-rate form, name, or callable ``h(s, u, ux, speed)`` (see :mod:`railwear.pde.forms`),
+        or a list of built-in forms, one per batch row.
     speed : float or 1-D array
         Vehicle speed (m/s); an array makes a batch over speeds, advanced together.
     epsilon, nu : float
@@ -246,9 +249,13 @@ def solve_evolution(
     if depth_limit is not None and not depth_limit > 0:
         raise ScenarioError(f"depth_limit must be > 0 (m), got {depth_limit}")
     form = as_wear_rate(h)
-    u_start, speeds, batch_dim = _batch(u0, speed)
+    rows = len(form) if isinstance(form, list) else 1
+    u_start, speeds, batch_dim = _batch(u0, speed, rows)
+    forms = form if isinstance(form, list) else [form] * len(speeds)
+    if len(forms) != len(speeds):
+        raise ScenarioError(f"h lists {len(forms)} forms for a batch of {len(speeds)} rows")
     n = u_start.shape[-1]
-    problem = _Problem(form, n, speeds, float(epsilon), float(nu), dealias, stabilisation)
+    problem = _Problem(forms, n, speeds, float(epsilon), float(nu), dealias, stabilisation)
     v = np.fft.rfft(u_start, axis=-1)
     if epsilon == 0 and nu == 0 and np.any(problem.growth_bound(v) > 0):
         raise IllPosedError(
@@ -329,7 +336,7 @@ def solve_evolution(
     u = np.fft.irfft(np.array(saved), n, axis=-1)
     angle = 2 * np.pi * np.arange(n) / n
     stop = np.where(np.isnan(stop_time), times[-1], stop_time)
-    return _dataset(u, np.array(times), angle, speeds, batch_dim, stop, problem, form,
+    return _dataset(u, np.array(times), angle, speeds, batch_dim, stop, problem, forms[0],
                     interval / steps, dealias, depth_limit)
 
 

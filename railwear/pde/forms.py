@@ -186,7 +186,13 @@ class CallableRate:
 
 
 def as_wear_rate(h):
-    """Accept a built-in form, its name, or a vectorised callable ``h(s, u, ux, speed)``."""
+    """Accept a built-in form, its name, a vectorised callable ``h(s, u, ux, speed)``, or a list of
+    built-in forms (one per batch row)."""
+    if isinstance(h, (list, tuple)):
+        forms = [as_wear_rate(f) for f in h]
+        if not forms or not all(isinstance(f, BuiltinRate) for f in forms):
+            raise ScenarioError("a list of h forms must hold built-in forms only")
+        return forms
     if isinstance(h, (BuiltinRate, CallableRate)):
         return h
     if isinstance(h, str):

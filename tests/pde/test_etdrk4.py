@@ -101,3 +101,16 @@ def test_stabilised_split_on_disk_contact_is_fourth_order_and_default_step_accur
     assert errors[0] < 1e-5
     orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
     assert np.all((orders > 3.5) & (orders < 4.5)), orders
+
+
+def test_one_form_per_row_equals_separate_runs():
+    from railwear.pde import DiskContact
+
+    x = angles(64)
+    u0 = 3e-5 * np.cos(3 * x) + 1e-5 * np.sin(7 * x)
+    forms = [DiskContact(static_load=70e3), DiskContact(friction_coefficient=0.4)]
+    batch = solve_evolution(u0, 0.1, forms, 60.0, 1e-4, 1e-3, n_save=3)
+    assert batch.u.dims == ("time", "member", "angle")
+    for i, form in enumerate(forms):
+        single = solve_evolution(u0, 0.1, form, 60.0, 1e-4, 1e-3, n_save=3)
+        np.testing.assert_allclose(batch.u.values[:, i], single.u.values, rtol=0, atol=1e-16)
