@@ -129,12 +129,26 @@ def test_bad_scenario_field_is_named(tmp_path, edit, field):
     assert not (out / "result.nc").exists()
 
 
+def _rows(angles, header="angle_deg,deviation_um", values=None):
+    values = values or {}
+    return header + "\n" + "\n".join(f"{a},{values.get(i, 1.0)}" for i, a in enumerate(angles)) + "\n"
+
+
+TURN = list(range(0, 360, 30))
+
+
 @pytest.mark.parametrize("csv, message", [
-    ("angle_deg,radius_um\n0,1\n90,2\n180,1\n270,0\n", "deviation"),
-    ("deviation_um\n1\n2\n3\n4\n", "angle"),
-    ("angle_deg,deviation_um\n0,1\n90,2\n180,1\n360,0\n", "outside"),
-    ("angle_deg,deviation_um\n-5,1\n90,2\n180,1\n270,0\n", "outside"),
-    ("angle_deg,deviation_um\n0,1\n90,x\n180,1\n270,0\n", "line 3"),
+    (_rows(TURN, "angle_deg,radius_um"), "deviation"),
+    ("deviation_um\n" + "1\n" * 12, "angle"),
+    ("Wheel 23, measured on the lathe\n" + _rows(TURN), "line 1"),
+    (_rows(TURN[:-1] + [370]), "outside"),
+    (_rows(TURN, values={4: "x"}), "line 6"),
+    (_rows(TURN, values={4: ""}), "missing value"),
+    (_rows(TURN[:5] + [120] + TURN[6:]), "repeats"),
+    (_rows(TURN[:5] + [100] + TURN[6:]), "increase"),
+    (_rows([a / 57.3 for a in TURN]), "radians in a degrees column"),
+    (_rows(TURN, "angle_rad,deviation_um"), "degrees in a radians column"),
+    (_rows(list(range(0, 180, 10))), "does not go round"),
 ])
 def test_bad_measured_wheel(tmp_path, csv, message):
     (tmp_path / "wheel.csv").write_text(csv)
@@ -143,6 +157,7 @@ def test_bad_measured_wheel(tmp_path, csv, message):
     result = CliRunner().invoke(app, ["run", str(path), "-o", str(tmp_path / "out")])
     assert result.exit_code == 2, result.output
     assert message in result.output and "initial.file" in result.output
+    assert len(result.output.strip().splitlines()) == 1
     assert not (tmp_path / "out" / "result.nc").exists()
 
 
