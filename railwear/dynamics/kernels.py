@@ -43,8 +43,10 @@ WS_WHEEL_LOAD = 14
 WS_FRICTION = 15  # inf: no saturation
 WS_FLANGE_CLEARANCE = 16
 WS_FLANGE_STIFFNESS = 17
-WS_N_PARAMS = 18
-WS_N_OUTPUTS = 18  # see wheelset_outputs
+WS_IRREGULARITY_CELLS = 18  # 0: ideal track; else lateral alignment y_t at n points in surf
+WS_IRREGULARITY_WAVELENGTH = 19  # length of track over which surf repeats [m]
+WS_N_PARAMS = 20
+WS_N_OUTPUTS = 19  # see wheelset_outputs
 
 # ---- bogie parameters (two wheelsets in a frame, frame on a secondary suspension) -----------
 BG_SPEED = 0
@@ -137,9 +139,23 @@ def _creep(sign, lat, yaw, vlat, vyaw, v, e, r0, lam, f11, f22, f23, f33, limit)
 
 
 @njit(cache=True, inline="always")
-def _wheel(sign, y, p):
-    """``_creep`` for the single wheelset, state ``y = [y, psi, y', psi']``, parameters ``WS_*``."""
-    return _creep(sign, y[0], y[1], y[2], y[3], p[WS_SPEED], p[WS_HALF_GAUGE], p[WS_ROLLING_RADIUS],
+def _track_alignment(t, p, surf):
+    """Lateral position of the track centre line [m] under the wheelset at distance ``V t``:
+    periodic piecewise-linear in ``surf`` (``n`` points over ``WS_IRREGULARITY_WAVELENGTH``)."""
+    n = int(p[WS_IRREGULARITY_CELLS])
+    if n == 0:
+        return 0.0
+    return surface_value(surf, n, TWO_PI * p[WS_SPEED] * t / p[WS_IRREGULARITY_WAVELENGTH])
+
+
+@njit(cache=True, inline="always")
+def _wheel(sign, y, p, relative):
+    """``_creep`` for the single wheelset, state ``y = [y, psi, y', psi']``, parameters ``WS_*``;
+    ``relative`` is the lateral displacement from the track centre line (sets the rolling radii).
+    The frame and its suspension follow the ideal line; a lateral alignment of the rails changes
+    the rolling radii and the flange gap, while the lateral creepage, taken in the direction of
+    the rails, is unchanged to first order."""
+    return _creep(sign, relative, y[1], y[2], y[3], p[WS_SPEED], p[WS_HALF_GAUGE], p[WS_ROLLING_RADIUS],
                   p[WS_CONICITY], p[WS_F11], p[WS_F22], p[WS_F23], p[WS_F33], p[WS_FRICTION] * p[WS_WHEEL_LOAD])
 
 
@@ -167,9 +183,10 @@ def wheelset_rhs(t, y, p, surf, dydt):
     forces with optional spin and Johnson-Vermeulen saturation, conical wheels, flange dead band,
     small yaw angles, constant wheel spin ``V / r0``.
     """
-    _, _, _, fx_l, fy_l, mz_l, _ = _wheel(1.0, y, p)
-    _, _, _, fx_r, fy_r, mz_r, _ = _wheel(-1.0, y, p)
-    force = fy_l + fy_r + _flange(y[0], p) - p[WS_LATERAL_STIFFNESS] * y[0] - p[WS_LATERAL_DAMPING] * y[2]
+    relative = y[0] - _track_alignment(t, p, surf)
+    _, _, _, fx_l, fy_l, mz_l, _ = _wheel(1.0, y, p, relative)
+    _, _, _, fx_r, fy_r, mz_r, _ = _wheel(-1.0, y, p, relative)
+    force = fy_l + fy_r + _flange(relative, p) - p[WS_LATERAL_STIFFNESS] * y[0] - p[WS_LATERAL_DAMPING] * y[2]
     moment = p[WS_HALF_GAUGE] * (fx_r - fx_l) + mz_l + mz_r - p[WS_YAW_STIFFNESS] * y[1] - p[WS_YAW_DAMPING] * y[3]
     dydt[0] = y[2]
     dydt[1] = y[3]
@@ -180,16 +197,18 @@ def wheelset_rhs(t, y, p, surf, dydt):
 @njit(cache=True)
 def wheelset_outputs(t, y, p, surf, out):
     """Outputs per time: per wheel (left 0-7, right 8-15) ``xi, eta, phi, Fx, Fy, Mz, power, s``
-    (``s`` the contact position on the tread towards the flange, ``+-y``); 16 flange force;
-    17 contact angle on the wheel ``V t / r0 mod 2 pi``."""
+    (``s`` the contact position on the tread towards the flange, ``+-(y - y_t)``); 16 flange
+    force; 17 contact angle on the wheel ``V t / r0 mod 2 pi``; 18 track alignment ``y_t``."""
+    track = _track_alignment(t, p, surf)
     for w in range(2):
         sign = 1.0 - 2.0 * w
-        vals = _wheel(sign, y, p)
+        vals = _wheel(sign, y, p, y[0] - track)
         for k in range(7):
             out[8 * w + k] = vals[k]
-        out[8 * w + 7] = sign * y[0]
-    out[16] = _flange(y[0], p)
+        out[8 * w + 7] = sign * (y[0] - track)
+    out[16] = _flange(y[0] - track, p)
     out[17] = (p[WS_SPEED] * t / p[WS_ROLLING_RADIUS]) % TWO_PI
+    out[18] = track
 
 
 # ---- bogie ----------------------------------------------------------------------------------

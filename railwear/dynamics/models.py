@@ -47,11 +47,13 @@ def _check(model, positive=(), nonnegative=(), finite=()):
             raise ScenarioError(f"{name}: must be finite, got {value!r}")
 
 
-def _pack(model, prefix, size, speed=None):
-    """Parameter array of ``model`` for its kernel: field ``name`` goes to ``kernels.<prefix>NAME``.
-
-    The friction coefficient goes to ``<prefix>FRICTION``; every index must be filled."""
+def _pack(model, prefix, size, speed=None, **derived):
+    """Parameter array of ``model`` for its kernel: field ``name`` goes to ``kernels.<prefix>NAME``,
+    as do the ``derived`` values. The friction coefficient goes to ``<prefix>FRICTION``; every
+    index must be filled."""
     p = np.full(size, np.nan)
+    for name, value in derived.items():
+        p[getattr(k, prefix + name.upper())] = value
     for fld in fields(model):
         name = "FRICTION" if fld.name == "friction_coefficient" else fld.name.upper()
         index = getattr(k, prefix + name, None)
@@ -72,6 +74,8 @@ class WheelsetModel:
     ``f23`` [N m], ``f33`` [N m^2] per wheel, Johnson-Vermeulen saturation at
     ``friction_coefficient * wheel_load`` (``inf``: none), flange contact as a linear spring
     outside the dead band ``|y| <= flange_clearance``. The frame moves at ``speed`` [m/s].
+    ``lateral_irregularity``: optional lateral alignment of the track [m] at equally spaced
+    points over ``irregularity_wavelength`` [m], repeated periodically.
     """
 
     mass: float
@@ -96,6 +100,8 @@ class WheelsetModel:
     initial_yaw_angle: float = 0.0
     initial_lateral_velocity: float = 0.0
     initial_yaw_rate: float = 0.0
+    lateral_irregularity: tuple | None = None
+    irregularity_wavelength: float = 100.0
 
     kind = k.KIND_WHEELSET
     n_states = 4
@@ -118,13 +124,21 @@ class WheelsetModel:
         for name in ("friction_coefficient", "flange_clearance"):
             if not _number(self, name) > 0.0:
                 raise ScenarioError(f"{name}: must be positive (inf to switch it off), got {getattr(self, name)!r}")
+        _check(self, positive=("irregularity_wavelength",))
+        if self.lateral_irregularity is not None:
+            values = np.asarray(self.lateral_irregularity, dtype=float)
+            if values.ndim != 1 or values.size < 2 or not np.all(np.isfinite(values)):
+                raise ScenarioError("lateral_irregularity: must be at least 2 finite lateral track positions [m]")
+            object.__setattr__(self, "lateral_irregularity", tuple(float(v) for v in values))
 
     def params(self, speed=None) -> np.ndarray:
         """Parameter array for ``kernels.wheelset_rhs`` (``speed`` overrides the model's)."""
-        return _pack(self, "WS_", k.WS_N_PARAMS, speed)
+        cells = 0 if self.lateral_irregularity is None else len(self.lateral_irregularity)
+        return _pack(self, "WS_", k.WS_N_PARAMS, speed, irregularity_cells=cells)
 
     def surface(self) -> np.ndarray:
-        return np.zeros(0)
+        """The lateral track alignment ``y_t`` [m] at ``j L / n`` along one wavelength ``L``."""
+        return np.zeros(0) if self.lateral_irregularity is None else np.array(self.lateral_irregularity)
 
     def initial_state(self) -> np.ndarray:
         return np.array(
@@ -481,7 +495,7 @@ def model_fields(model) -> dict:
     out = {}
     for fld in fields(model):
         value = getattr(model, fld.name)
-        if isinstance(value, np.ndarray):
+        if isinstance(value, (np.ndarray, tuple)):
             continue
         out[fld.name] = "none" if value is None else value
     return out

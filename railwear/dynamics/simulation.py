@@ -162,6 +162,7 @@ def _wheelset_dataset(model, ts, ys, p, surf):
         "contact_lateral_position": _var(tw, per_wheel(7), "m", "lateral contact position on the tread, towards the flange"),
         "contact_angle": _var("time", out[:, 17], "rad", "angle of the contact point on the wheel"),
         "flange_force": _var("time", out[:, 16], "N", "lateral flange force on the wheelset"),
+        "track_lateral_alignment": _var("time", out[:, 18], "m", "lateral position of the track centre line"),
     }
     coords = {
         "time": _var("time", ts, "s", "time"),

@@ -87,3 +87,30 @@ def test_hunting_below_and_above_critical_speed():
     assert amplitudes[0] > NONLINEAR["flange_clearance"]
     # one attractor, reached from inside and from outside
     assert amplitudes[0] == pytest.approx(amplitudes[1], rel=1e-3)
+
+
+def test_response_to_a_lateral_track_irregularity():
+    """Below Vc a harmonic alignment of wavelength 25 m drives the wheelset at 2 pi V / 25 m with
+    the linear frequency response; the input enters through the rolling-radius difference."""
+    wavelength, speed = 25.0, 0.7 * VC
+    n = 256
+    alignment = 1e-3 * np.cos(2 * np.pi * np.arange(n) / n)
+    model = WheelsetModel(speed=speed, **BASE, lateral_irregularity=alignment, irregularity_wavelength=wavelength,
+                          initial_lateral_displacement=0.0)
+    ds = simulate(model, 3.0, rtol=1e-10, n_output=6001)
+    late = ds.time.values > 1.5
+    t = ds.time.values[late]
+    omega = 2 * np.pi * speed / wavelength
+    basis = np.stack([np.cos(omega * t), np.sin(omega * t)], axis=1)
+
+    def phasor(signal):
+        c = np.linalg.lstsq(basis, signal, rcond=None)[0]
+        return c[0] - 1j * c[1]
+
+    y_hat = phasor(ds.lateral_displacement.values[late])
+    track_hat = phasor(ds.track_lateral_alignment.values[late])
+    b = np.zeros(4)
+    b[3] = 2 * model.f11 * model.half_gauge * model.conicity / (model.rolling_radius * model.yaw_inertia)
+    expected = np.linalg.solve(1j * omega * np.eye(4) - model.state_matrix(), b)[0]
+    assert y_hat / track_hat == pytest.approx(expected, rel=1e-3)
+    assert abs(expected) > 0.1  # a real response, not a trivially small one
