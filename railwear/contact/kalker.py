@@ -14,7 +14,10 @@ of the CONTACT program). Below g = 0.1 Kalker's slender-ellipse asymptotes are u
 constant so that they meet the table at g = 0.1: the raw asymptotes differ from the tabulated
 g = 0.1 values by up to 5 %, and railwear keeps the coefficients continuous (CONTACT jumps).
 
-C33 is not in CONTACT's table. Its Poisson interpolation is the parabola through C itself: for
+C33 is not in CONTACT's table; railwear carries Kalker's C33 column as reproduced in the
+literature (not checked against Kalker's book here). It agrees with Kalker's asymptote
+``π²/(16(1-ν)g)`` for a/b = g -> 0 within 6 % at g = 0.1, and with the limit
+``π/4 (1-2ν)/(1-ν)`` for b/a -> 0 within 1.3 % at b/a = 0.1 for ν <= 0.25. Its Poisson interpolation is the parabola through C itself: for
 patches long in the rolling direction C33 tends to ``π/4 (1-2ν)/(1-ν)``, which vanishes at
 ν = 0.5, so 1/C33 is singular there and the parabola through 1/C overshoots (non-monotone in ν
 by 1.3 % at b/a = 0.1); the parabola through C is monotone on every tabulated row.
