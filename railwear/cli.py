@@ -239,6 +239,61 @@ def _print_sweep_table(ds):
     Console(width=120).print(table)
 
 
+def _parse_length(text, field):
+    """``0.3mm``, ``300um`` or ``3e-4m`` in metres."""
+    units = {"mm": 1e-3, "um": 1e-6, "µm": 1e-6, "m": 1.0}
+    for suffix in ("mm", "um", "µm", "m"):
+        if text.strip().endswith(suffix):
+            try:
+                value = float(text.strip()[: -len(suffix)]) * units[suffix]
+            except ValueError:
+                break
+            if value > 0:
+                return value
+    _fail(f"{field}: expected a positive length with a unit (0.3mm, 300um, 3e-4m), got {text!r}", 2)
+
+
+@app.command()
+def forecast(
+    measured: Annotated[Path, typer.Argument(help="CSV of angle and radius deviation round the wheel")],
+    scenario: Annotated[Optional[str], typer.Option(help="scenario file or built-in name: physics and [service] scatter")] = None,
+    limit: Annotated[str, typer.Option(help="peak-to-peak out-of-roundness limit with its unit, e.g. 0.3mm")] = "0.3mm",
+    samples: Annotated[Optional[int], typer.Option(help="Monte Carlo samples (default: the scenario's service.samples)")] = None,
+    seed: Annotated[Optional[int], typer.Option(help="seed (default: the scenario's service.seed)")] = None,
+    horizon_km: Annotated[Optional[float], typer.Option(help="distance to look ahead (default: the scenario's life times solver.t_end)")] = None,
+    angle_unit: Annotated[Optional[str], typer.Option(help="deg or rad, for a column named just 'angle'")] = None,
+    deviation_unit: Annotated[Optional[str], typer.Option(help="um, mm or m, for a column named just 'deviation'")] = None,
+    output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-forecast"),
+):
+    """When does this measured wheel pass its out-of-roundness limit? Median and 90 % band."""
+    from railwear import api, plots, results
+    from railwear import forecast as forecasts
+    from railwear.measured import read_measured
+
+    limit_m = _parse_length(limit, "--limit")
+    try:
+        sc = api.load_scenario(scenario)
+        service = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
+        if service:
+            sc = sc.model_validate({**sc.model_dump(), "service": {**sc.service.model_dump(), **service}})
+        if horizon_km is not None and not horizon_km > 0:
+            raise ScenarioError("--horizon-km must be > 0")
+        horizon = None if horizon_km is None else horizon_km / sc.operation.life_distance_km
+        angle, deviation = read_measured(measured, angle_unit, deviation_unit, field=str(measured))
+        with _Progress("railwear forecast") as progress:
+            ds = forecasts.forecast(sc, angle, deviation, limit_m, horizon, progress=progress)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    except NumericalInstabilityError as e:
+        _fail(str(e), 1)
+    results.write_netcdf(ds, output / "forecast.nc")
+    plots.save(plots.forecast(ds), output / "forecast.png")
+    text = forecasts.report(ds)
+    results.write_text(text, output / "forecast.txt")
+    typer.echo(text, nl=False)
+    typer.echo(f"wrote {output / 'forecast.nc'}")
+
+
 @app.command()
 def scenarios():
     """List the built-in scenarios."""

@@ -144,3 +144,25 @@ def sweep(ds):
     ax.legend(handles=[Patch(color=REGIME_COLOURS[r], label=r) for r in present], fontsize="small")
     ax.set_title("regime over the sweep")
     return fig
+
+
+def forecast(ds):
+    """Peak-to-peak deviation over distance for every sample, the limit, and the crossing band."""
+    fig, (ax, hist) = _figure(7, 6.5, 2)
+    limit = ds.attrs["limit_m"] * 1e6
+    distance = ds.distance.values
+    for p in ds.peak_to_peak.values:
+        ax.plot(distance, p * 1e6, color="C0", lw=0.6, alpha=0.4)
+    ax.axhline(limit, color="C3", lw=1.5, label=f"limit {limit:g} µm")
+    for key, style in (("crossing_p05_km", ":"), ("crossing_median_km", "-"), ("crossing_p95_km", ":")):
+        if np.isfinite(ds.attrs[key]):
+            ax.axvline(ds.attrs[key], color="k", ls=style, lw=1)
+    ax.set(xlabel="distance (km)", ylabel="peak-to-peak (µm)",
+           title="out-of-roundness per sample, median and 90 % band of the crossing")
+    ax.legend(fontsize="small")
+    crossed = ds.crossing_distance.values[np.isfinite(ds.crossing_distance.values)]
+    if crossed.size:
+        hist.hist(crossed, bins=min(30, max(5, crossed.size // 3)), color="C0")
+    hist.set(xlabel="distance at the limit (km)", ylabel="samples",
+             title=f"{crossed.size} of {ds.sizes['sample']} samples reach the limit")
+    return fig

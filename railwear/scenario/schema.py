@@ -116,6 +116,30 @@ class Initial(_Section):
         return self
 
 
+class Service(_Section):
+    """Scatter of the service conditions, for forecasts: speed peaks with weights, load, friction."""
+
+    speed_kmh: list[Positive] | None = None
+    speed_weights: list[Annotated[float, Field(ge=0, allow_inf_nan=False)]] | None = None
+    speed_scatter_kmh: NonNegative = 0.0
+    load_scatter: Annotated[float, Field(ge=0, lt=0.5)] = 0.0
+    friction_range: list[Positive] | None = None
+    samples: Annotated[int, Field(ge=1, le=100000)] = 64
+    seed: Annotated[int, Field(ge=0)] = 0
+
+    @model_validator(mode="after")
+    def _distribution(self):
+        if self.speed_weights is not None:
+            if self.speed_kmh is None or len(self.speed_weights) != len(self.speed_kmh):
+                raise ValueError("speed_weights needs one weight per speed_kmh peak")
+            if abs(sum(self.speed_weights) - 1) > 1e-9:
+                raise ValueError(f"the speed distribution must sum to 1, not {sum(self.speed_weights):g}")
+        if self.friction_range is not None and (len(self.friction_range) != 2
+                                                or self.friction_range[0] > self.friction_range[1]):
+            raise ValueError("friction_range must be [low, high]")
+        return self
+
+
 class Scenario(_Section):
     """A whole railwear run: wheel, contact, wear, operation, h, solver and initial state."""
 
@@ -128,3 +152,4 @@ class Scenario(_Section):
     wear_rate: WearRate = WearRate()
     solver: Solver = Solver()
     initial: Initial = Initial()
+    service: Service = Service()
