@@ -23,11 +23,12 @@ def runs():
 
 
 def test_every_builtin_runs_to_its_regime(runs):
-    assert set(runs) == set(EXPECTED_REGIME)
+    assert set(EXPECTED_REGIME) <= set(runs)
     for name, ds in runs.items():
-        assert str(ds.regime.values) == EXPECTED_REGIME[name], name
-        # every regime case runs until 1 mm is gone at the most worn spot
-        assert float(ds.removed_depth[-1]) == pytest.approx(1e-3, rel=1e-9)
+        if name in EXPECTED_REGIME:
+            assert str(ds.regime.values) == EXPECTED_REGIME[name], name
+        # every built-in case runs until 1 mm is gone at the most worn spot
+        assert float(ds.removed_depth[-1]) == pytest.approx(1e-3, rel=1e-9), name
 
 
 def test_polygonalisation_ends_with_three_to_eight_maxima(runs):
