@@ -8,7 +8,7 @@ Bad values raise ``railwear.errors.ScenarioError`` with a one-line message namin
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import MISSING, dataclass, fields
 
 import numpy as np
 from scipy.optimize import brentq
@@ -17,7 +17,7 @@ from railwear.dynamics import kernels as k
 from railwear.dynamics.linear import wheelset_state_matrix
 from railwear.errors import ScenarioError
 
-__all__ = ["BogieModel", "DiskWheelModel", "WheelsetModel", "contact_constants", "numerical_state_matrix"]
+__all__ = ["BogieModel", "DiskWheelModel", "MODEL_KINDS", "WheelsetModel", "build_model", "contact_constants", "numerical_state_matrix"]
 
 
 def _number(model, name):
@@ -526,3 +526,28 @@ def contact_constants(static_load, A, B, youngs_modulus, poisson) -> dict:
         "f23": shear * c2 * math.sqrt(c2) * c23,
         "f33": shear * c2 * c2 * c33,
     }
+
+
+MODEL_KINDS = {"wheelset": WheelsetModel, "disk_wheel": DiskWheelModel, "bogie": BogieModel}
+
+
+def build_model(kind, section):
+    """A model from a scenario section: ``kind`` in ``MODEL_KINDS`` (or ``"cooperrider"``, the
+    published bogie with ``section`` overriding its fields) and a mapping of field values in SI
+    units. Unknown or missing fields raise ``ScenarioError`` naming the field."""
+    if kind not in MODEL_KINDS and kind != "cooperrider":
+        raise ScenarioError(f"model: unknown model kind {kind!r}; expected one of {sorted(MODEL_KINDS) + ['cooperrider']}")
+    cls = BogieModel if kind == "cooperrider" else MODEL_KINDS[kind]
+    known = {fld.name: fld for fld in fields(cls)}
+    for name in section:
+        if name not in known:
+            raise ScenarioError(f"{name}: not a field of the {kind} model")
+    if kind == "cooperrider":
+        if "speed" not in section:
+            raise ScenarioError("speed: missing (required for the cooperrider model)")
+        return BogieModel.cooperrider(**dict(section))
+    required = [n for n, fld in known.items() if fld.default is MISSING and fld.default_factory is MISSING]
+    for name in required:
+        if name not in section:
+            raise ScenarioError(f"{name}: missing (required for the {kind} model)")
+    return cls(**dict(section))

@@ -84,3 +84,15 @@ def test_every_variable_has_cf_units_and_long_name(model):
         assert var.attrs.get("units") and var.attrs.get("long_name"), name
         assert np.all(np.isfinite(var.values)), name
     assert ds.time.size == 11 and ds.attrs["rhs_evaluations"] > 0
+
+
+def test_build_model_from_a_section():
+    from railwear.dynamics import BogieModel, build_model
+
+    assert build_model("wheelset", WHEELSET) == WheelsetModel(**WHEELSET)
+    assert build_model("cooperrider", {"speed": 40.0, "conicity": 0.1}) == BogieModel.cooperrider(40.0, conicity=0.1)
+    _raises_naming("masss", lambda: build_model("wheelset", dict(WHEELSET, masss=1.0)))
+    _raises_naming("conicity", lambda: build_model("wheelset", {k: v for k, v in WHEELSET.items() if k != "conicity"}))
+    _raises_naming("model", lambda: build_model("tram", {}))
+    _raises_naming("speed", lambda: build_model("cooperrider", {}))
+    _raises_naming("wheel_mass", lambda: build_model("disk_wheel", dict(DISK, wheel_mass=-1.0)))
