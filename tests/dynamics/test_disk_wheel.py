@@ -126,3 +126,13 @@ def k_sat_free(model, xi):
     lin = model.f11 * xi
     return lin * kernels.saturation_factor(abs(lin), model.friction_coefficient * model.static_load) / (
         model.traction_torque / model.radius)
+
+
+def test_rosenbrock_and_dormand_prince_agree_through_contact_loss():
+    model = DiskWheelModel(**P2, initial_vertical_velocity=0.3, traction_torque=5e3)
+    explicit = simulate(model, 0.1, rtol=1e-9, n_output=1001)
+    implicit = simulate(model, 0.1, rtol=1e-7, n_output=1001, method="rosenbrock")
+    assert explicit.event_time.size == implicit.event_time.size >= 4
+    np.testing.assert_allclose(implicit.event_time.values, explicit.event_time.values, rtol=0, atol=1e-6)
+    peak = float(explicit.normal_force.max())
+    assert float(np.abs(implicit.normal_force - explicit.normal_force).max()) < 1e-3 * peak
