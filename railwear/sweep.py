@@ -115,12 +115,20 @@ def point_key(scenario):
     return scenario_hash(scenario)[:16]
 
 
-def run_point(scenario_toml):
-    """Run one point (in a worker); returns its reduced result as a Dataset."""
-    from railwear import api
+def run_point(task):
+    """Run one point in a worker: ``task`` is ``(scenario_toml, path or None)``.
+
+    Returns the reduced result; with a path (a store the worker shares) the worker writes it there
+    too, so that the process collecting the points does not do all the writing.
+    """
+    from railwear import api, results
     from railwear.scenario import parse_scenario
 
-    return reduce_result(api.run(parse_scenario(scenario_toml, source="sweep point")))
+    scenario_toml, path = task
+    ds = reduce_result(api.run(parse_scenario(scenario_toml, source="sweep point")))
+    if path is not None:
+        results.write_netcdf(ds, path)
+    return ds
 
 
 def reduce_result(ds):
@@ -136,14 +144,34 @@ def reduce_result(ds):
     return out
 
 
+def warm_up(seconds):
+    """Import railwear and load its compiled solver in a worker; hold it ``seconds`` so that every
+    worker of a pool gets one."""
+    import time
+
+    from railwear.pde import Cubic, solve_evolution
+
+    solve_evolution(np.cos(np.arange(16) * np.pi / 8), 0.01, Cubic(c1=0.1), n_save=2)
+    time.sleep(seconds)
+    return os.getpid()
+
+
 class LocalExecutor:
-    """Worker processes on this machine (``workers`` defaults to the number of cores)."""
+    """Worker processes on this machine (``workers`` defaults to the number of cores).
+
+    The workers are started, and railwear imported and its compiled loop loaded in each, when the
+    executor is made, so that the first points do not pay for it.
+    """
+
+    shares_disk = True
 
     def __init__(self, workers=None):
         import multiprocessing
 
         self.workers = workers or os.cpu_count() or 1
         self.pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"))
+        for f in [self.pool.submit(warm_up, 0.5) for _ in range(self.workers)]:
+            f.result()
 
     def submit(self, fn, arg, key):
         return self.pool.submit(fn, arg)
@@ -157,6 +185,8 @@ class LocalExecutor:
 
 class SerialExecutor:
     """In this process, one point after the other, each run as the sweep asks for its result."""
+
+    shares_disk = True
 
     class _Deferred:
         def __init__(self, fn, arg):
@@ -178,8 +208,11 @@ class SerialExecutor:
 class DaskExecutor:
     """A Dask distributed cluster at ``address`` (``tcp://HOST:PORT``) or from a scheduler file.
 
-    Tasks of a lost worker are retried ``retries`` times by Dask.
+    Tasks of a lost worker are retried ``retries`` times by Dask. The workers may be on other
+    machines, so the points come back to be written here.
     """
+
+    shares_disk = False
 
     def __init__(self, address=None, scheduler_file=None, retries=2):
         from distributed import Client
@@ -199,10 +232,14 @@ class DaskExecutor:
         self.client.close()
 
 
+def _point_path(store, key):
+    return store / "points" / f"{key}.nc"
+
+
 def _write_point(store, key, ds):
     from railwear import results
 
-    results.write_netcdf(ds, store / "points" / f"{key}.nc")
+    results.write_netcdf(ds, _point_path(store, key))
 
 
 def _batched_speeds(base, varies, samples):
@@ -230,10 +267,11 @@ def run_sweep(base: Scenario, varies, store, samples=None, seed=0, executor=None
     todo = [(k, s) for k, s in dict(zip(keys, scenarios)).items() if k not in done]
     count = [len(keys) - len(todo)]
 
-    def finished(key, ds=None, error=None):
+    def finished(key, ds=None, error=None, written=False):
         count[0] += 1
         if error is None:
-            _write_point(store, key, ds)
+            if not written:
+                _write_point(store, key, ds)
             done[key] = ds
             (store / "points" / f"{key}.error").unlink(missing_ok=True)
         else:
@@ -265,11 +303,13 @@ def run_sweep(base: Scenario, varies, store, samples=None, seed=0, executor=None
         own = executor is None
         executor = executor or LocalExecutor()
         try:
-            futures = {executor.submit(run_point, to_toml(s), k): k for k, s in todo}
+            shared = executor.shares_disk
+            futures = {executor.submit(run_point, (to_toml(s), _point_path(store, k) if shared else None), k): k
+                       for k, s in todo}
             for future in executor.as_completed(list(futures)):
                 key = futures[future]
                 try:
-                    finished(key, future.result())
+                    finished(key, future.result(), written=shared)
                 except Exception as e:  # noqa: BLE001  (a failing point must not stop the sweep)
                     finished(key, error=f"{type(e).__name__}: {e}")
         finally:

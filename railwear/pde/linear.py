@@ -68,3 +68,29 @@ def stability_map(h, speeds, orders, epsilon=0.0, nu=0.0, amplitude=0.0):
                 "order": ("order", orders.astype(int), {"units": "1", "long_name": "polygon order"})},
         attrs={"epsilon": epsilon, "nu": nu, "amplitude": amplitude},
     )
+
+
+def measured_growth_map(h, speeds, orders, epsilon=0.0, nu=0.0, amplitude=1e-9, duration=0.01,
+                        n_points=128, dt=None):
+    """Growth rate of each polygon order measured in one short batched solve over the speeds.
+
+    Every order starts at ``amplitude`` (m), small enough for the linear regime about the round
+    wheel; after ``duration`` (normed time) the rate is ``ln(|û_n(T)| / |û_n(0)|) / T``. In that
+    regime it is :func:`stability_map` with ``amplitude = 0``, measured instead of derived.
+    """
+    from railwear.pde.evolution import solve_evolution
+
+    speeds = np.atleast_1d(np.asarray(speeds, float))
+    orders = np.atleast_1d(np.asarray(orders, int))
+    x = 2 * np.pi * np.arange(n_points) / n_points
+    u0 = amplitude * np.cos(orders[:, None] * x + 0.7 * orders[:, None]).sum(axis=0)
+    ds = solve_evolution(u0, duration, h, speeds, epsilon, nu, n_save=2, dt=dt)
+    spectrum = np.abs(np.fft.rfft(ds.u.values, axis=-1))[..., orders]
+    rate = np.log(spectrum[-1] / spectrum[0]) / float(ds.time[-1])
+    return xr.Dataset(
+        {"growth_rate": (("speed", "order"), rate,
+                         {"units": "1", "long_name": "measured growth rate per unit normed time"})},
+        coords={"speed": ("speed", speeds, {"units": "m s-1", "long_name": "vehicle speed"}),
+                "order": ("order", orders, {"units": "1", "long_name": "polygon order"})},
+        attrs={"epsilon": epsilon, "nu": nu, "amplitude": amplitude, "duration": duration},
+    )
