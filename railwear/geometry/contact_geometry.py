@@ -60,41 +60,85 @@ def _spline(xb, c, x, nu):
 
 
 @njit(cache=True)
-def _gap(yp, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0):
-    """Vertical gap rail - wheel (Z0 = 0) under wheel profile point yp; +inf off the rail."""
+def _contact_point(yp, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0):
+    """Lowest point of the wheel circle at profile point yp over the rail.
+
+    Returns (gap rail - wheel with Z0 = 0, rail profile coordinate, longitudinal position X of
+    the point ahead of the wheel centre);
+    gap = +inf off the rail. Without yaw the lowest point lies under the axle (X = 0); with yaw
+    the angle round the wheel is found by Newton's method on the gap (three steps suffice, the
+    angle being of the order of yaw times the rail slope).
+    """
     zw = _spline(wx, wc, yp, 0)
-    D = r0 + zw
+    rho = r0 + zw
     Yp = side * (yw0 + yp)
-    Y = y_ws + Yp * cth - D * sth
-    Zw = Yp * sth + D * cth
+    alpha = 0.0
+    steps = 0 if sps == 0.0 else 4
+    for _ in range(steps):
+        ca = np.cos(alpha)
+        sa = np.sin(alpha)
+        Y1 = Yp * cth - rho * ca * sth
+        Y = y_ws + rho * sa * sps + Y1 * cps
+        yr = side * Y - yr0
+        z1 = _spline(rx, rc, yr, 1)
+        if np.isnan(z1):
+            return np.inf, np.nan, np.nan
+        z2 = _spline(rx, rc, yr, 2)
+        dY = rho * ca * sps + rho * sa * sth * cps
+        d2Y = -rho * sa * sps + rho * ca * sth * cps
+        dZ = -rho * sa * cth
+        d2Z = -rho * ca * cth
+        alpha -= (side * z1 * dY - dZ) / (z2 * dY * dY + side * z1 * d2Y - d2Z)
+    if steps == 0:
+        ca, sa = 1.0, 0.0
+    else:
+        ca, sa = np.cos(alpha), np.sin(alpha)
+    X1 = rho * sa
+    Y1 = Yp * cth - rho * ca * sth
+    Zw = Yp * sth + rho * ca * cth
+    Y = y_ws + X1 * sps + Y1 * cps
     yr = side * Y - yr0
     zr = _spline(rx, rc, yr, 0)
     if np.isnan(zr):
+        return np.inf, np.nan, np.nan
+    # longitudinal position relative to the wheel centre (X1 = 0, Y1 = Yp cos(theta))
+    return zr - Zw, yr, X1 * cps + rho * ca * sth * sps
+
+
+@njit(cache=True, inline="always")
+def _gap(yp, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0):
+    """Vertical gap rail - wheel (Z0 = 0) under wheel profile point yp; +inf off the rail."""
+    if sps != 0.0:
+        return _contact_point(yp, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)[0]
+    D = r0 + _spline(wx, wc, yp, 0)
+    Yp = side * (yw0 + yp)
+    zr = _spline(rx, rc, side * (y_ws + Yp * cth - D * sth) - yr0, 0)
+    if np.isnan(zr):
         return np.inf
-    return zr - Zw
+    return zr - (Yp * sth + D * cth)
 
 
 @njit(cache=True)
-def _refine(lo, hi, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0):
+def _refine(lo, hi, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0):
     """Golden-section minimum of the gap on [lo, hi]: (gap, yp)."""
     a, b = lo, hi
     x1 = b - _GOLDEN * (b - a)
     x2 = a + _GOLDEN * (b - a)
-    f1 = _gap(x1, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
-    f2 = _gap(x2, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+    f1 = _gap(x1, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
+    f2 = _gap(x2, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
     for _ in range(60):
         if f1 < f2:
             b = x2
             x2 = x1
             f2 = f1
             x1 = b - _GOLDEN * (b - a)
-            f1 = _gap(x1, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+            f1 = _gap(x1, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
         else:
             a = x1
             x1 = x2
             f1 = f2
             x2 = a + _GOLDEN * (b - a)
-            f2 = _gap(x2, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+            f2 = _gap(x2, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
         if b - a < 1e-12:
             break
     if f1 < f2:
@@ -103,17 +147,19 @@ def _refine(lo, hi, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0):
 
 
 @njit(cache=True)
-def _minima(side, y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, only_global):
+def _minima(side, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, only_global):
     """Local minima of the gap along the wheel profile, refined; returns their number.
 
     With ``only_global`` only the smallest one is refined (used inside the roll iteration).
     """
     cth = np.cos(theta)
     sth = np.sin(theta)
+    cps = np.cos(psi)
+    sps = np.sin(psi)
     n = grid.shape[0]
     g = np.empty(n)
     for k in range(n):
-        g[k] = _gap(grid[k], side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+        g[k] = _gap(grid[k], side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
     count = 0
     if only_global:
         k = np.argmin(g)
@@ -121,7 +167,7 @@ def _minima(side, y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, 
             return 0
         lo = grid[max(k - 1, 0)]
         hi = grid[min(k + 1, n - 1)]
-        gaps[0], where[0] = _refine(lo, hi, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+        gaps[0], where[0] = _refine(lo, hi, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
         return 1
     for k in range(n):
         if not np.isfinite(g[k]):
@@ -131,7 +177,7 @@ def _minima(side, y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, 
         if g[k] <= left and g[k] < right:
             lo = grid[max(k - 1, 0)]
             hi = grid[min(k + 1, n - 1)]
-            gk, yk = _refine(lo, hi, side, y_ws, cth, sth, wx, wc, rx, rc, yw0, yr0, r0)
+            gk, yk = _refine(lo, hi, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
             duplicate = False
             for m in range(count):
                 if abs(where[m] - yk) < 0.5e-3:
@@ -147,26 +193,26 @@ def _minima(side, y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, 
 
 
 @njit(cache=True)
-def _roll_residual(y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where):
-    nr = _minima(1, y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, True)
+def _roll_residual(y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where):
+    nr = _minima(1, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, True)
     gr = gaps[0] if nr > 0 else np.inf
-    nl = _minima(-1, y_ws, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, True)
+    nl = _minima(-1, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, True)
     gl = gaps[0] if nl > 0 else np.inf
     return gr - gl, gr
 
 
 @njit(cache=True)
-def _solve_roll(y_ws, theta0, grid, wx, wc, rx, rc, yw0, yr0, r0):
+def _solve_roll(y_ws, psi, theta0, grid, wx, wc, rx, rc, yw0, yr0, r0):
     """Roll angle with equal minimum gaps on both sides: (theta, z_drop, ok)."""
     gaps = np.empty(1)
     where = np.empty(1)
     a = theta0
-    fa, _ = _roll_residual(y_ws, a, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+    fa, _ = _roll_residual(y_ws, psi, a, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
     if not np.isfinite(fa):
         return np.nan, np.nan, False
     step = 1e-3
     b = a - step if fa < 0.0 else a + step
-    fb, _ = _roll_residual(y_ws, b, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+    fb, _ = _roll_residual(y_ws, psi, b, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
     tries = 0
     while fa * fb > 0.0 and tries < 40:
         step *= 2.0
@@ -174,7 +220,7 @@ def _solve_roll(y_ws, theta0, grid, wx, wc, rx, rc, yw0, yr0, r0):
         b = a - step if fa < 0.0 else a + step
         if abs(b) > 0.5:
             return np.nan, np.nan, False
-        fb, _ = _roll_residual(y_ws, b, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+        fb, _ = _roll_residual(y_ws, psi, b, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
         if not np.isfinite(fb):
             return np.nan, np.nan, False
         tries += 1
@@ -185,7 +231,7 @@ def _solve_roll(y_ws, theta0, grid, wx, wc, rx, rc, yw0, yr0, r0):
     c = a
     for _ in range(200):
         c = b - fb * (b - a) / (fb - fa)
-        fc, _ = _roll_residual(y_ws, c, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+        fc, _ = _roll_residual(y_ws, psi, c, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
         if fc == 0.0 or abs(b - a) < 1e-14:
             break
         if fc * fb < 0.0:
@@ -198,17 +244,18 @@ def _solve_roll(y_ws, theta0, grid, wx, wc, rx, rc, yw0, yr0, r0):
         b, fb = c, fc
         if abs(fc) < 1e-15:
             break
-    _, gr = _roll_residual(y_ws, c, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+    _, gr = _roll_residual(y_ws, psi, c, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
     return c, gr, True
 
 
 @njit(cache=True)
-def _table_core(shifts, grid, wx, wc, rx, rc, yw0, yr0, r0, out_theta, out_drop, out_ok,
-                gaps_r, where_r, count_r, gaps_l, where_l, count_l):
-    """Solve every shift, continuing the roll angle from the previous (sorted) shift."""
+def _table_core(shifts, yaws, grid, wx, wc, rx, rc, yw0, yr0, r0, out_theta, out_drop, out_ok,
+                gaps_r, where_r, count_r, gaps_l, where_l, count_l, rail_r, x_r, rail_l, x_l):
+    """Solve every shift, continuing the roll angle from the previous (sorted) shift; for every
+    local contact also its rail profile coordinate and longitudinal position."""
     theta = 0.0
     for k in range(shifts.shape[0]):
-        th, drop, ok = _solve_roll(shifts[k], theta, grid, wx, wc, rx, rc, yw0, yr0, r0)
+        th, drop, ok = _solve_roll(shifts[k], yaws[k], theta, grid, wx, wc, rx, rc, yw0, yr0, r0)
         out_ok[k] = ok
         if not ok:
             out_theta[k] = np.nan
@@ -217,8 +264,15 @@ def _table_core(shifts, grid, wx, wc, rx, rc, yw0, yr0, r0, out_theta, out_drop,
         theta = th
         out_theta[k] = th
         out_drop[k] = drop
-        count_r[k] = _minima(1, shifts[k], th, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps_r[k], where_r[k], False)
-        count_l[k] = _minima(-1, shifts[k], th, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps_l[k], where_l[k], False)
+        count_r[k] = _minima(1, shifts[k], yaws[k], th, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps_r[k], where_r[k], False)
+        count_l[k] = _minima(-1, shifts[k], yaws[k], th, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps_l[k], where_l[k], False)
+        cth, sth, cps, sps = np.cos(th), np.sin(th), np.cos(yaws[k]), np.sin(yaws[k])
+        for m in range(count_r[k]):
+            _, rail_r[k, m], x_r[k, m] = _contact_point(where_r[k, m], 1.0, shifts[k], cth, sth, cps, sps,
+                                                        wx, wc, rx, rc, yw0, yr0, r0)
+        for m in range(count_l[k]):
+            _, rail_l[k, m], x_l[k, m] = _contact_point(where_l[k, m], -1.0, shifts[k], cth, sth, cps, sps,
+                                                        wx, wc, rx, rc, yw0, yr0, r0)
 
 
 def gauge_point(rail, depth=0.014):
@@ -233,27 +287,29 @@ def gauge_point(rail, depth=0.014):
     return brentq(lambda s: rail(s) - z[top] - depth, y[k], y[k + 1], xtol=1e-13)
 
 
-def _order_contacts(gaps, where, count):
-    """Primary (smallest gap) and secondary contact per shift: (gap1, y1, gap2, y2)."""
+def _order_contacts(gaps, where, count, rails, xs):
+    """Primary (smallest gap) and secondary contact per shift:
+    (gap1, wheel y1, rail y1, X1, gap2, wheel y2, rail y2)."""
     n = gaps.shape[0]
-    g1 = np.full(n, np.nan)
-    y1 = np.full(n, np.nan)
+    g1, y1, r1, x1 = (np.full(n, np.nan) for _ in range(4))
     g2 = np.full(n, np.inf)
-    y2 = np.full(n, np.nan)
+    y2, r2 = np.full(n, np.nan), np.full(n, np.nan)
     for k in range(n):
         m = count[k]
         if m == 0:
             continue
         order = np.argsort(gaps[k, :m])
-        g1[k], y1[k] = gaps[k, order[0]], where[k, order[0]]
+        i = order[0]
+        g1[k], y1[k], r1[k], x1[k] = gaps[k, i], where[k, i], rails[k, i], xs[k, i]
         if m > 1:
-            g2[k], y2[k] = gaps[k, order[1]], where[k, order[1]]
-    return g1, y1, g2, y2
+            i = order[1]
+            g2[k], y2[k], r2[k] = gaps[k, i], where[k, i], rails[k, i]
+    return g1, y1, r1, x1, g2, y2, r2
 
 
 def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360, axle_load=133.4e3,
                   y=None, rolling_radius=0.46, taping_line_offset=0.070, gauge_depth=0.014,
-                  youngs_modulus=2.1e11, poisson=0.28, two_point_gap=1e-5):
+                  youngs_modulus=2.1e11, poisson=0.28, two_point_gap=1e-5, yaw=0.0):
     """Contact table of a symmetric wheelset on straight track, as an ``xarray.Dataset`` over ``y``.
 
     wheel, rail: :class:`~railwear.geometry.profiles.Profile` (right-hand side; the left side is
@@ -263,7 +319,9 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
     (default -10 ... 10 mm, 0.1 mm); rolling_radius r0 [m] at the profile origin (taping line);
     taping_line_offset [m] from the inner face to the profile origin; gauge_depth [m];
     youngs_modulus [Pa], poisson [-] of both bodies; two_point_gap [m]: a secondary contact
-    whose gap is below it counts as two-point contact.
+    whose gap is below it counts as two-point contact; yaw [rad]: yaw angle of the wheelset, a
+    number or one value per shift (the contact points then move off the vertical plane through
+    the axle, ``contact_X`` ahead of the wheel centre).
 
     Variables (dims y or (y, side)) carry CF ``units`` and ``long_name``; see the module
     docstring for the definitions.
@@ -281,6 +339,12 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
     shifts = np.atleast_1d(np.asarray(y, dtype=float))
     if not np.all(np.isfinite(shifts)) or shifts.ndim != 1:
         raise ScenarioError("y must be a 1-D array of finite lateral shifts")
+    try:
+        yaws = np.broadcast_to(np.asarray(yaw, dtype=float), shifts.shape).copy()
+    except ValueError:
+        raise ScenarioError(f"yaw must be a number or one value per shift ({shifts.size})") from None
+    if not np.all(np.isfinite(yaws)) or np.any(np.abs(yaws) > 0.2):
+        raise ScenarioError("yaw must be finite and below 0.2 rad")
     rail_c = rail.canted(cant)
     y_gauge = gauge_point(rail_c, gauge_depth)
     yr0 = 0.5 * gauge - y_gauge
@@ -303,6 +367,8 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
     where_l = np.full((n, _MAX_MINIMA), np.nan)
     count_r = np.zeros(n, dtype=np.int64)
     count_l = np.zeros(n, dtype=np.int64)
+    rail_r, x_r = np.full((n, _MAX_MINIMA), np.nan), np.full((n, _MAX_MINIMA), np.nan)
+    rail_l, x_l = np.full((n, _MAX_MINIMA), np.nan), np.full((n, _MAX_MINIMA), np.nan)
     for sign in (1.0, -1.0):
         sel = order[(np.sign(shifts[order]) == sign) | ((shifts[order] == 0.0) & (sign > 0))]
         if sel.size == 0:
@@ -311,11 +377,14 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
         gr, wr = np.full((sel.size, _MAX_MINIMA), np.inf), np.full((sel.size, _MAX_MINIMA), np.nan)
         gl, wl = np.full((sel.size, _MAX_MINIMA), np.inf), np.full((sel.size, _MAX_MINIMA), np.nan)
         cr, cl = np.zeros(sel.size, dtype=np.int64), np.zeros(sel.size, dtype=np.int64)
-        _table_core(np.ascontiguousarray(shifts[sel]), grid, wx, wc, rx, rc, yw0, yr0, rolling_radius,
-                    th, dr, okk, gr, wr, cr, gl, wl, cl)
+        sel_rail_r, sel_x_r, sel_rail_l, sel_x_l = (np.full((sel.size, _MAX_MINIMA), np.nan) for _ in range(4))
+        _table_core(np.ascontiguousarray(shifts[sel]), np.ascontiguousarray(yaws[sel]), grid, wx, wc, rx, rc,
+                    yw0, yr0, rolling_radius, th, dr, okk, gr, wr, cr, gl, wl, cl,
+                    sel_rail_r, sel_x_r, sel_rail_l, sel_x_l)
         theta[sel], drop[sel], ok[sel] = th, dr, okk
         gaps_r[sel], where_r[sel], count_r[sel] = gr, wr, cr
         gaps_l[sel], where_l[sel], count_l[sel] = gl, wl, cl
+        rail_r[sel], x_r[sel], rail_l[sel], x_l[sel] = sel_rail_r, sel_x_r, sel_rail_l, sel_x_l
     if not np.all(ok):
         bad = shifts[~ok][0]
         raise ScenarioError(
@@ -323,18 +392,11 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
         )
 
     sides = []
-    for side, gaps, where, count in ((1.0, gaps_r, where_r, count_r), (-1.0, gaps_l, where_l, count_l)):
-        g1, yp1, g2, yp2 = _order_contacts(gaps, where, count)
-        g1 = g1 - drop
-        g2 = g2 - drop
-        D = rolling_radius + wheel(yp1)
-        Yp = side * (yw0 + yp1)
-        Y = shifts + Yp * np.cos(theta) - D * np.sin(theta)
-        yr1 = side * Y - yr0
-        D2 = rolling_radius + wheel(np.where(np.isfinite(yp2), yp2, 0.0))
-        Yp2 = side * (yw0 + np.where(np.isfinite(yp2), yp2, 0.0))
-        yr2 = np.where(np.isfinite(yp2), side * (shifts + Yp2 * np.cos(theta) - D2 * np.sin(theta)) - yr0, np.nan)
-        sides.append(dict(g1=g1, yp1=yp1, yr1=yr1, Y=Y, g2=g2, yp2=yp2, yr2=yr2))
+    for side, gaps, where, count, rails, xs in ((1.0, gaps_r, where_r, count_r, rail_r, x_r),
+                                                (-1.0, gaps_l, where_l, count_l, rail_l, x_l)):
+        g1, yp1, yr1, x1, g2, yp2, yr2 = _order_contacts(gaps, where, count, rails, xs)
+        sides.append(dict(g1=g1 - drop, yp1=yp1, yr1=yr1, X=x1, Y=side * (yr1 + yr0), g2=g2 - drop,
+                          yp2=yp2, yr2=yr2))
 
     def stack(key):
         return np.stack([s[key] for s in sides], axis=1)
@@ -362,6 +424,7 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
     dims = ("y", "side")
     ds = xr.Dataset(
         data_vars=dict(
+            yaw_angle=("y", yaws, dict(units="rad", long_name="wheelset yaw angle (prescribed)")),
             roll_angle=("y", theta, dict(units="rad", long_name="wheelset roll angle (positive lowers the right wheel)")),
             axle_z=("y", drop, dict(units="m", long_name="vertical position of the axle (downwards), relative to the reference placement")),
             rolling_radius_difference=("y", dr, dict(units="m", long_name="rolling radius difference right - left")),
@@ -370,6 +433,7 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
             wheel_contact_y=(dims, yp1, dict(units="m", long_name="contact point on the wheel profile")),
             rail_contact_y=(dims, yr1, dict(units="m", long_name="contact point on the rail profile")),
             contact_Y=(dims, stack("Y"), dict(units="m", long_name="lateral track position of the contact point")),
+            contact_X=(dims, stack("X"), dict(units="m", long_name="longitudinal position of the contact point ahead of the wheel centre")),
             wheel_curvature=(dims, kappa_wheel, dict(units="1/m", long_name="lateral wheel profile curvature (convex positive)")),
             rail_curvature=(dims, kappa_rail, dict(units="1/m", long_name="lateral rail profile curvature (convex positive)")),
             A=(dims, A, dict(units="1/m", long_name="Hertz curvature in the rolling direction")),
