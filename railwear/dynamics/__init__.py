@@ -2,7 +2,8 @@
 
 - ``linear_critical_speed``: closed-form critical speed of the linear wheelset;
 - ``critical_speed(model)``: from the eigenvalue crossing of ``model.state_matrix(speed)``;
-- ``WheelsetModel``, ``DiskWheelModel``, ``BogieModel``: frozen, validated model dataclasses;
+- ``WheelsetModel``, ``TableWheelsetModel`` (real profiles), ``DiskWheelModel``, ``BogieModel``:
+  frozen, validated model dataclasses;
 - ``build_model(kind, section)``: a model from a scenario section (unknown/missing fields are errors);
 - ``simulate(model, t_end, **options)``: a run into an ``xarray.Dataset`` (CF units, long names);
 - ``railwear.dynamics.integrators.integrate``: the compiled integrators (Dormand-Prince 5(4),
@@ -10,12 +11,20 @@
 """
 
 from railwear.dynamics.linear import critical_speed, linear_critical_speed, max_real_part, wheelset_state_matrix
-from railwear.dynamics.models import BogieModel, DiskWheelModel, WheelsetModel, build_model, contact_constants
+from railwear.dynamics.models import (
+    BogieModel,
+    DiskWheelModel,
+    TableWheelsetModel,
+    WheelsetModel,
+    build_model,
+    contact_constants,
+)
 from railwear.dynamics.simulation import simulate
 
 __all__ = [
     "BogieModel",
     "DiskWheelModel",
+    "TableWheelsetModel",
     "WheelsetModel",
     "build_model",
     "contact_constants",

@@ -23,6 +23,7 @@ KIND_VAN_DER_POL = 1  # y0' = y1, y1' = mu (1 - y0^2) y1 - y0, mu = p[0]; stiff 
 KIND_WHEELSET = 2
 KIND_DISK_WHEEL = 3
 KIND_BOGIE = 4
+KIND_TABLE_WHEELSET = 5
 
 # ---- wheelset parameters --------------------------------------------------------------------
 WS_SPEED = 0
@@ -74,6 +75,25 @@ BG_FLANGE_CLEARANCE = 21
 BG_FLANGE_STIFFNESS = 22
 BG_N_PARAMS = 23
 BG_N_OUTPUTS = 10  # see bogie_outputs
+
+# ---- wheelset on real profiles (contact table) -------------------------------------------
+TW_SPEED = 0
+TW_MASS = 1
+TW_YAW_INERTIA = 2
+TW_LATERAL_STIFFNESS = 3
+TW_YAW_STIFFNESS = 4
+TW_LATERAL_DAMPING = 5
+TW_YAW_DAMPING = 6
+TW_HALF_GAUGE = 7  # half the distance between the contact points at y = 0
+TW_FRICTION = 8
+TW_CREEP_SCALE = 9
+TW_Y_MIN = 10  # first grid point of the table [m], lateral displacement to the left
+TW_DY = 11
+TW_N_POINTS = 12
+TW_OUTSIDE_STIFFNESS = 13  # lateral spring beyond the table's range [N/m]
+TW_N_PARAMS = 14
+TW_N_FIELDS = 7  # per side in surf: rolling radius, contact angle, normal force, f11, f22, f23, f33
+TW_N_OUTPUTS = 17  # see table_wheelset_outputs
 
 # ---- disk wheel parameters ------------------------------------------------------------------
 DW_SPEED = 0
@@ -209,6 +229,102 @@ def wheelset_outputs(t, y, p, surf, out):
     out[16] = _flange(y[0] - track, p)
     out[17] = (p[WS_SPEED] * t / p[WS_ROLLING_RADIUS]) % TWO_PI
     out[18] = track
+
+
+# ---- wheelset on real profiles --------------------------------------------------------------
+@njit(cache=True, inline="always")
+def _table_value(surf, p, side, field, lateral):
+    """Linear interpolation of table column ``field`` of wheel ``side`` (0 left, 1 right) at the
+    lateral displacement ``lateral``, clamped to the table's range."""
+    n = int(p[TW_N_POINTS])
+    pos = (lateral - p[TW_Y_MIN]) / p[TW_DY]
+    if pos <= 0.0:
+        pos = 0.0
+    elif pos >= n - 1:
+        pos = n - 1.0
+    j = min(int(pos), n - 2)
+    w = pos - j
+    base = (side * TW_N_FIELDS + field) * n
+    return (1.0 - w) * surf[base + j] + w * surf[base + j + 1]
+
+
+@njit(cache=True, inline="always")
+def _table_wheel(side, y, p, surf, ratio):
+    """Creep of one wheel from the contact table: returns ``(xi, eta, phi, Fx, Feta, Mz, power, N,
+    delta)``. ``ratio = (r_R - r_L) / (r_L + r_R)`` (quasi-static axle spin ``2 V / (r_L + r_R)``).
+    Creepages in the contact plane: ``xi = -+ratio -+ e psi'/V`` (upper sign left),
+    ``eta = (y'/V - psi) / cos(delta)``, ``phi = psi' cos(delta) / V -+ sin(delta) / r``."""
+    v = p[TW_SPEED]
+    sign = 1.0 - 2.0 * side
+    radius = _table_value(surf, p, side, 0, y[0])
+    delta = _table_value(surf, p, side, 1, y[0])
+    normal = _table_value(surf, p, side, 2, y[0])
+    scale = p[TW_CREEP_SCALE]
+    cosd = math.cos(delta)
+    sind = math.sin(delta)
+    xi = sign * (ratio - p[TW_HALF_GAUGE] * y[3] / v)
+    eta = (y[2] / v - y[1]) / cosd
+    phi = y[3] * cosd / v - sign * sind / radius
+    f23 = scale * _table_value(surf, p, side, 5, y[0])
+    fx = -scale * _table_value(surf, p, side, 3, y[0]) * xi
+    fy = -scale * _table_value(surf, p, side, 4, y[0]) * eta - f23 * phi
+    mz = f23 * eta - scale * _table_value(surf, p, side, 6, y[0]) * phi
+    s = saturation_factor(math.sqrt(fx * fx + fy * fy), p[TW_FRICTION] * normal)
+    fx *= s
+    fy *= s
+    mz *= s
+    return xi, eta, phi, fx, fy, mz, -v * (fx * xi + fy * eta + mz * phi), normal, delta
+
+
+@njit(cache=True, inline="always")
+def _table_forces(y, p, surf):
+    """Lateral force and yaw moment of both contacts on the wheelset (no suspension)."""
+    r_left = _table_value(surf, p, 0, 0, y[0])
+    r_right = _table_value(surf, p, 1, 0, y[0])
+    ratio = (r_right - r_left) / (r_left + r_right)
+    force = 0.0
+    moment = 0.0
+    for side in range(2):
+        sign = 1.0 - 2.0 * side
+        _, _, _, fx, fy, mz, _, normal, delta = _table_wheel(side, y, p, surf, ratio)
+        cosd = math.cos(delta)
+        # the normal force leans towards the track centre by the contact angle
+        force += fy * cosd - sign * normal * math.sin(delta)
+        moment += mz * cosd - sign * p[TW_HALF_GAUGE] * fx
+    lo = p[TW_Y_MIN]
+    hi = lo + (p[TW_N_POINTS] - 1.0) * p[TW_DY]
+    if y[0] > hi:
+        force -= p[TW_OUTSIDE_STIFFNESS] * (y[0] - hi)
+    elif y[0] < lo:
+        force -= p[TW_OUTSIDE_STIFFNESS] * (y[0] - lo)
+    return force, moment
+
+
+@njit(cache=True)
+def table_wheelset_rhs(t, y, p, surf, dydt):
+    """Wheelset on real profiles, state ``[y, psi, y', psi']`` (``y`` to the left): rolling radii,
+    contact angles, normal loads and Kalker coefficients from the contact table at ``y``; the
+    lateral components of the normal forces give the gravitational stiffness and, in flange
+    contact, the flange force."""
+    force, moment = _table_forces(y, p, surf)
+    dydt[0] = y[2]
+    dydt[1] = y[3]
+    dydt[2] = (force - p[TW_LATERAL_STIFFNESS] * y[0] - p[TW_LATERAL_DAMPING] * y[2]) / p[TW_MASS]
+    dydt[3] = (moment - p[TW_YAW_STIFFNESS] * y[1] - p[TW_YAW_DAMPING] * y[3]) / p[TW_YAW_INERTIA]
+
+
+@njit(cache=True)
+def table_wheelset_outputs(t, y, p, surf, out):
+    """Outputs: per wheel (left 0-7, right 8-15) ``xi, eta, phi, Fx, Feta, Mz, power, N``;
+    16 rolling radius difference left - right."""
+    r_left = _table_value(surf, p, 0, 0, y[0])
+    r_right = _table_value(surf, p, 1, 0, y[0])
+    ratio = (r_right - r_left) / (r_left + r_right)
+    for side in range(2):
+        vals = _table_wheel(side, y, p, surf, ratio)
+        for k in range(8):
+            out[8 * side + k] = vals[k]
+    out[16] = r_left - r_right
 
 
 # ---- bogie ----------------------------------------------------------------------------------
@@ -422,6 +538,8 @@ def rhs(kind, t, y, p, surf, dydt):
         disk_wheel_rhs(t, y, p, surf, dydt)
     elif kind == KIND_BOGIE:
         bogie_rhs(t, y, p, surf, dydt)
+    elif kind == KIND_TABLE_WHEELSET:
+        table_wheelset_rhs(t, y, p, surf, dydt)
     elif kind == KIND_LINEAR:
         linear_rhs(t, y, p, surf, dydt)
     elif kind == KIND_VAN_DER_POL:
@@ -447,4 +565,6 @@ def outputs(kind, ts, ys, p, surf, n_out):
             disk_wheel_outputs(ts[i], ys[i], p, surf, res[i])
         elif kind == KIND_BOGIE:
             bogie_outputs(ts[i], ys[i], p, surf, res[i])
+        elif kind == KIND_TABLE_WHEELSET:
+            table_wheelset_outputs(ts[i], ys[i], p, surf, res[i])
     return res

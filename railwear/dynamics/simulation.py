@@ -9,7 +9,7 @@ import xarray as xr
 
 from railwear.dynamics import integrators as integ
 from railwear.dynamics import kernels as k
-from railwear.dynamics.models import BogieModel, DiskWheelModel, WheelsetModel, model_fields
+from railwear.dynamics.models import BogieModel, DiskWheelModel, TableWheelsetModel, WheelsetModel, model_fields
 from railwear.errors import NumericalInstabilityError, ScenarioError
 
 __all__ = ["simulate", "METHODS"]
@@ -71,7 +71,7 @@ def simulate(
     max_norm=1e6,
     initial_state=None,
 ) -> xr.Dataset:
-    """Integrate ``model`` (``WheelsetModel``, ``DiskWheelModel`` or ``BogieModel``) over ``[0, t_end]`` seconds.
+    """Integrate ``model`` (``WheelsetModel``, ``TableWheelsetModel``, ``DiskWheelModel`` or ``BogieModel``) over ``[0, t_end]`` seconds.
 
     Output at ``t_eval`` (dense output; default ``n_output`` equidistant times) or every
     ``output_every`` accepted steps. ``method``: ``"dopri5"`` (explicit, default) or
@@ -82,8 +82,8 @@ def simulate(
     ``initial_state`` (length ``model.n_states``) replaces the model's initial state, e.g. to
     continue a run at another speed.
     """
-    if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel)):
-        raise ScenarioError(f"model: expected a WheelsetModel, DiskWheelModel or BogieModel, got {type(model).__name__}")
+    if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel, TableWheelsetModel)):
+        raise ScenarioError(f"model: expected one of the railwear.dynamics models, got {type(model).__name__}")
     t_end, method_id, rtol, atol, t_eval, every = _options(
         model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step
     )
@@ -110,6 +110,8 @@ def simulate(
         ds = _wheelset_dataset(model, ts, ys, p, surf)
     elif isinstance(model, BogieModel):
         ds = _bogie_dataset(model, ts, ys, p, surf)
+    elif isinstance(model, TableWheelsetModel):
+        ds = _table_wheelset_dataset(model, ts, ys, p, surf)
     else:
         ds = _disk_wheel_dataset(model, ts, ys, p, surf, ev_t, ev_dir)
     ds.attrs.update(
@@ -142,11 +144,12 @@ def _var(dims, data, units, long_name):
     return xr.Variable(dims, data, {"units": units, "long_name": long_name})
 
 
-def _wheelset_dataset(model, ts, ys, p, surf):
-    out = k.outputs(model.kind, ts, ys, p, surf, k.WS_N_OUTPUTS)
+def _wheelset_variables(model, ts, ys, out):
+    """States and the per-wheel creep quantities shared by the wheelset models (output columns
+    0-6 of each wheel, left at 0 and right at 8)."""
     per_wheel = lambda j: np.stack([out[:, j], out[:, 8 + j]], axis=1)  # noqa: E731
     tw = ("time", "wheel")
-    data = {
+    return {
         "lateral_displacement": _var("time", ys[:, 0], "m", "lateral displacement of the wheelset"),
         "yaw_angle": _var("time", ys[:, 1], "rad", "yaw angle of the wheelset"),
         "lateral_velocity": _var("time", ys[:, 2], "m s-1", "lateral velocity of the wheelset"),
@@ -159,15 +162,33 @@ def _wheelset_dataset(model, ts, ys, p, surf):
         "lateral_creep_force": _var(tw, per_wheel(4), "N", "lateral creep force on the wheel"),
         "spin_creep_moment": _var(tw, per_wheel(5), "N m", "spin creep moment on the wheel"),
         "frictional_power": _var(tw, per_wheel(6), "W", "frictional power in the contact"),
-        "contact_lateral_position": _var(tw, per_wheel(7), "m", "lateral contact position on the tread, towards the flange"),
-        "contact_angle": _var("time", out[:, 17], "rad", "angle of the contact point on the wheel"),
-        "flange_force": _var("time", out[:, 16], "N", "lateral flange force on the wheelset"),
-        "track_lateral_alignment": _var("time", out[:, 18], "m", "lateral position of the track centre line"),
-    }
-    coords = {
+    }, {
         "time": _var("time", ts, "s", "time"),
         "wheel": xr.Variable("wheel", np.array(["left", "right"]), {"long_name": "wheel of the wheelset"}),
     }
+
+
+def _wheelset_dataset(model, ts, ys, p, surf):
+    out = k.outputs(model.kind, ts, ys, p, surf, k.WS_N_OUTPUTS)
+    data, coords = _wheelset_variables(model, ts, ys, out)
+    data.update({
+        "contact_lateral_position": _var(("time", "wheel"), np.stack([out[:, 7], out[:, 15]], axis=1), "m",
+                                         "lateral contact position on the tread, towards the flange"),
+        "contact_angle": _var("time", out[:, 17], "rad", "angle of the contact point on the wheel"),
+        "flange_force": _var("time", out[:, 16], "N", "lateral flange force on the wheelset"),
+        "track_lateral_alignment": _var("time", out[:, 18], "m", "lateral position of the track centre line"),
+    })
+    return xr.Dataset(data, coords=coords)
+
+
+def _table_wheelset_dataset(model, ts, ys, p, surf):
+    out = k.outputs(model.kind, ts, ys, p, surf, k.TW_N_OUTPUTS)
+    data, coords = _wheelset_variables(model, ts, ys, out)
+    data.update({
+        "normal_force": _var(("time", "wheel"), np.stack([out[:, 7], out[:, 15]], axis=1), "N",
+                             "normal contact force from the contact table"),
+        "rolling_radius_difference": _var("time", out[:, 16], "m", "rolling radius difference left - right"),
+    })
     return xr.Dataset(data, coords=coords)
 
 
