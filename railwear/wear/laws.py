@@ -1,0 +1,150 @@
+"""Wear laws: the volume of steel one contact removes per second (m³/s), and their internal state.
+
+- :class:`EnergyLaw`: volume ∝ frictional power, paper eq. 2a (``u' = -β π`` with ``β = k_e / ρ``
+  spread over the patch by ``χ``).
+- :class:`Archard`: ``V = k N s / H`` per sliding distance ``s``.
+- :class:`USFD`: the Tγ/A wear function of Braghin, Lewis, Dwyer-Joyce & Bruni, Wear 261 (2006)
+  1253, mass per metre rolled per mm² of contact.
+- :class:`InternalStateLaw`: the general form of paper eq. 2, ``u' = U(t, π, u, z)``,
+  ``z' = Z(t, π, u, z)``, on the cells of a wear surface.
+Rates are positive for material removed; depth ``u`` of the paper falls by them.
+"""
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from railwear.errors import ScenarioError
+
+STEEL_DENSITY = 7850.0  # kg/m³
+
+
+def _positive(name, value):
+    if not (np.isfinite(value) and value > 0):
+        raise ScenarioError(f"{name} must be finite and > 0, got {value}")
+
+
+@dataclass(frozen=True)
+class EnergyLaw:
+    """Removed mass ``k_e π`` per second: ``specific_wear`` k_e in kg/J, ``density`` in kg/m³."""
+
+    specific_wear: float = 5.3e-9
+    density: float = STEEL_DENSITY
+
+    def __post_init__(self):
+        _positive("specific_wear", self.specific_wear)
+        _positive("density", self.density)
+
+    @property
+    def beta(self):
+        """Volume per frictional energy ``β = k_e / ρ`` (m³/J)."""
+        return self.specific_wear / self.density
+
+    def volume_rate(self, power, **_):
+        """m³/s for frictional power ``power`` (W)."""
+        return self.beta * np.asarray(power, float)
+
+
+@dataclass(frozen=True)
+class Archard:
+    """``V = k N s / H``: ``coefficient`` k (1), ``hardness`` H (Pa); ``s`` the sliding distance."""
+
+    coefficient: float = 1e-4
+    hardness: float = 3e9
+
+    def __post_init__(self):
+        _positive("coefficient", self.coefficient)
+        _positive("hardness", self.hardness)
+
+    def volume_rate(self, normal_force, sliding_speed, **_):
+        """m³/s for the normal force (N) and the sliding speed ``|creepage| v`` (m/s)."""
+        return self.coefficient * np.asarray(normal_force, float) * np.abs(sliding_speed) / self.hardness
+
+
+@dataclass(frozen=True)
+class USFD:
+    """Wear rate ``K`` (µg per metre rolled per mm² of contact) from ``Tγ/A`` (N/mm²).
+
+    ``K = 5.3 Tγ/A`` below 10.4, ``55.0`` up to 77.2, ``61.9 Tγ/A - 4778.7`` above. As printed
+    the law steps down twice: by 0.12 at 10.4 (5.3 × 10.4 = 55.12) and by 55 at 77.2, where the
+    severe branch starts at -0.02. ``convention="continuous"`` (the default) makes ``K``
+    continuous and never falling as ``Tγ/A`` grows: the mild branch meets the plateau where
+    ``5.3 Tγ/A = 55`` (10.38 N/mm²), and the plateau holds until the severe branch rises past it
+    (78.09 N/mm²). ``"as_printed"`` keeps the published steps (the severe branch clipped at 0).
+    """
+
+    convention: str = "continuous"
+    density: float = STEEL_DENSITY
+    mild_slope = 5.3
+    mild_limit = 10.4
+    plateau = 55.0
+    severe_limit = 77.2
+    severe_slope = 61.9
+    severe_offset = 4778.7
+
+    def __post_init__(self):
+        if self.convention not in ("continuous", "as_printed"):
+            raise ScenarioError(f"USFD convention must be 'continuous' or 'as_printed', not {self.convention!r}")
+        _positive("density", self.density)
+
+    def rate(self, t_gamma_over_area):
+        """``K`` in µg/(m mm²) for ``Tγ/A`` in N/mm²."""
+        x = np.asarray(t_gamma_over_area, float)
+        severe = self.severe_slope * x - self.severe_offset
+        mild = self.mild_slope * x
+        if self.convention == "continuous":
+            severe = np.maximum(severe, self.plateau)
+            mild = np.minimum(mild, self.plateau)
+        return np.where(x < self.mild_limit, mild,
+                        np.where(x <= self.severe_limit, self.plateau, np.maximum(severe, 0.0)))
+
+    def volume_rate(self, power, speed, patch_area, **_):
+        """m³/s for frictional power (W), rolling speed (m/s) and contact area (m²)."""
+        power, speed, area = (np.asarray(v, float) for v in (power, speed, patch_area))
+        t_gamma = power / speed  # N
+        area_mm2 = area * 1e6
+        mass_per_metre = self.rate(t_gamma / area_mm2) * area_mm2 * 1e-9  # kg/m
+        return mass_per_metre * speed / self.density
+
+
+@dataclass(frozen=True)
+class InternalStateLaw:
+    """Paper eq. 2: ``u' = U(t, π, u, z)``, ``z' = Z(t, π, u, z)`` on the cells of a surface.
+
+    ``U`` and ``Z`` are vectorised callables over arrays of cells; ``π`` is the local frictional
+    power density (W/m²), ``u`` the radius deviation (m, negative where worn), ``z`` the internal
+    state. ``U`` returns m/s (negative for wear).
+    """
+
+    U: Callable
+    Z: Callable
+
+    def rates(self, t, power_density, u, z):
+        return (np.asarray(self.U(t, power_density, u, z), float),
+                np.asarray(self.Z(t, power_density, u, z), float))
+
+    def advance(self, t, dt, power_density, u, z):
+        """One explicit midpoint step of ``(u, z)`` over ``dt`` (s) with ``π`` held."""
+        du, dz = self.rates(t, power_density, u, z)
+        du2, dz2 = self.rates(t + dt / 2, power_density, u + dt / 2 * du, z + dt / 2 * dz)
+        return u + dt * du2, z + dt * dz2
+
+    @classmethod
+    def energy(cls, law: EnergyLaw):
+        """The plain energy law in this form: ``u' = -β π``, no state."""
+        return cls(U=lambda t, p, u, z: -law.beta * np.asarray(p), Z=lambda t, p, u, z: np.zeros_like(z))
+
+    @classmethod
+    def hardening(cls, law: EnergyLaw, saturation=1.0, power_scale=1e6, time_constant=3600.0):
+        """Work hardening: the surface state ``z`` rises towards ``saturation`` under the power
+        density ``power_scale`` (W/m²) with ``time_constant`` (s) and relaxes without it; the wear
+        coefficient falls to ``β / (1 + z)``."""
+        def U(t, p, u, z):
+            return -law.beta * np.asarray(p) / (1 + z)
+
+        def Z(t, p, u, z):
+            drive = np.asarray(p) / (np.asarray(p) + power_scale)
+            return (saturation * drive - z) / time_constant
+
+        return cls(U=U, Z=Z)
