@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from railwear.dynamics.kernels import event, rhs
+from railwear.dynamics.kernels import event, rhs, rhs_inline
 
 METHOD_DOPRI5 = 0
 METHOD_ROSENBROCK = 1
@@ -116,7 +116,7 @@ def _dopri_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, k, tmp):
             for j in range(s):
                 acc += _A[s, j] * k[j, i]
             tmp[i] = y[i] + h * acc
-        rhs(kind, t + _C[s] * h, tmp, p, surf, k[s])
+        rhs_inline(kind, t + _C[s] * h, tmp, p, surf, k[s])
     for i in range(n):
         ynew[i] = tmp[i]  # stage 7 is evaluated at the fifth-order solution
         fnew[i] = k[6, i]

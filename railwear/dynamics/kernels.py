@@ -457,7 +457,8 @@ def _disk_contact(t, y, p, surf):
     creepage = (y[1] * (r0 + ubar) - v) / v
     force = 0.0
     if normal > 0.0:
-        f11 = p[DW_F11] * (normal / p[DW_STATIC_LOAD]) ** (2.0 / 3.0)
+        # Kalker's f11 ~ c^2 ~ N^(2/3), and for Hertz (N/W)^(2/3) = delta/delta_0
+        f11 = p[DW_F11] * delta / p[DW_STATIC_APPROACH]
         force = f11 * creepage
         force *= saturation_factor(abs(force), p[DW_FRICTION] * normal)
     return normal, creepage, force, force * creepage * v, xc - math.floor(xc / TWO_PI) * TWO_PI, ubar, delta
@@ -531,7 +532,14 @@ def van_der_pol_rhs(t, y, p, surf, dydt):
 # ---- dispatch -------------------------------------------------------------------------------
 @njit(cache=True)
 def rhs(kind, t, y, p, surf, dydt):
-    """Right-hand side of model ``kind`` into ``dydt``."""
+    """Right-hand side of model ``kind`` into ``dydt`` (a plain call)."""
+    rhs_inline(kind, t, y, p, surf, dydt)
+
+
+@njit(cache=True, inline="always")
+def rhs_inline(kind, t, y, p, surf, dydt):
+    """Right-hand side of model ``kind`` into ``dydt``, inlined where it is called (the hot
+    Dormand-Prince stage loop) to save the call with its array arguments."""
     if kind == KIND_WHEELSET:
         wheelset_rhs(t, y, p, surf, dydt)
     elif kind == KIND_DISK_WHEEL:
@@ -546,7 +554,7 @@ def rhs(kind, t, y, p, surf, dydt):
         van_der_pol_rhs(t, y, p, surf, dydt)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def event(kind, t, y, p, surf):
     """Event function of model ``kind`` (sign changes are events); 1 where a model has none."""
     if kind == KIND_DISK_WHEEL:

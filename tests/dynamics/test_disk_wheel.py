@@ -136,3 +136,14 @@ def test_rosenbrock_and_dormand_prince_agree_through_contact_loss():
     np.testing.assert_allclose(implicit.event_time.values, explicit.event_time.values, rtol=0, atol=1e-6)
     peak = float(explicit.normal_force.max())
     assert float(np.abs(implicit.normal_force - explicit.normal_force).max()) < 1e-3 * peak
+
+
+def test_creep_coefficient_grows_with_the_load_like_kalker():
+    """f11 ~ c^2 ~ N^(2/3): at twice the static approach (N = 2^1.5 W) it doubles."""
+    model = DiskWheelModel(**dict(P2, friction_coefficient=math.inf), traction_torque=2e3)
+    y = model.initial_state()
+    y[2] = -model.static_approach  # wheel pressed down: approach 2 delta_0
+    out = kernels.outputs(model.kind, np.zeros(1), y[None, :], model.params(), model.surface(), kernels.DW_N_OUTPUTS)[0]
+    normal, creepage, force = out[0], out[1], out[2]
+    assert normal == pytest.approx(2**1.5 * model.static_load, rel=1e-12)
+    assert force / creepage == pytest.approx(model.f11 * (normal / model.static_load) ** (2 / 3), rel=1e-12)
