@@ -92,8 +92,9 @@ TW_DY = 11
 TW_N_POINTS = 12
 TW_OUTSIDE_STIFFNESS = 13  # lateral spring beyond the table's range [N/m]
 TW_N_PARAMS = 14
-TW_N_FIELDS = 7  # per side in surf: rolling radius, contact angle, normal force, f11, f22, f23, f33
-TW_N_OUTPUTS = 17  # see table_wheelset_outputs
+TW_N_FIELDS = 8  # per side in surf: rolling radius, contact angle, normal force, f11, f22, f23, f33,
+# contact position on the wheel profile
+TW_N_OUTPUTS = 20  # see table_wheelset_outputs
 
 # ---- disk wheel parameters ------------------------------------------------------------------
 DW_SPEED = 0
@@ -316,7 +317,8 @@ def table_wheelset_rhs(t, y, p, surf, dydt):
 @njit(cache=True)
 def table_wheelset_outputs(t, y, p, surf, out):
     """Outputs: per wheel (left 0-7, right 8-15) ``xi, eta, phi, Fx, Feta, Mz, power, N``;
-    16 rolling radius difference left - right."""
+    16 rolling radius difference left - right; 17, 18 contact position on the left and right
+    wheel profile; 19 contact angle on the wheel ``x = 2 V t / (r_L + r_R) mod 2 pi``."""
     r_left = _table_value(surf, p, 0, 0, y[0])
     r_right = _table_value(surf, p, 1, 0, y[0])
     ratio = (r_right - r_left) / (r_left + r_right)
@@ -325,6 +327,9 @@ def table_wheelset_outputs(t, y, p, surf, out):
         for k in range(8):
             out[8 * side + k] = vals[k]
     out[16] = r_left - r_right
+    out[17] = _table_value(surf, p, 0, 7, y[0])
+    out[18] = _table_value(surf, p, 1, 7, y[0])
+    out[19] = (2.0 * p[TW_SPEED] * t / (r_left + r_right)) % TWO_PI
 
 
 # ---- bogie ----------------------------------------------------------------------------------

@@ -236,7 +236,8 @@ def _table_arrays(table, spin=True):
     """Grid ``y`` (to the left, ascending), the kernel's table array and the half distance of the
     contact points at ``y = 0`` from a contact table (``y`` to the right, sides right/left).
     ``spin=False`` drops the spin coefficients ``f23, f33``."""
-    needed = ("rolling_radius", "contact_angle", "normal_force", "a", "b", "c11", "c22", "c23", "c33", "contact_Y")
+    needed = ("rolling_radius", "contact_angle", "normal_force", "a", "b", "c11", "c22", "c23", "c33", "contact_Y",
+              "wheel_contact_y")
     try:
         missing = [name for name in needed if name not in table.data_vars]
         shifts = np.asarray(table["y"].values, dtype=float)
@@ -258,7 +259,8 @@ def _table_arrays(table, spin=True):
         c2 = a * b
         values = (row["rolling_radius"].values, row["contact_angle"].values, row["normal_force"].values,
                   shear * c2 * row["c11"].values, shear * c2 * row["c22"].values,
-                  spin * shear * c2 * np.sqrt(c2) * row["c23"].values, spin * shear * c2 * c2 * row["c33"].values)
+                  spin * shear * c2 * np.sqrt(c2) * row["c23"].values, spin * shear * c2 * c2 * row["c33"].values,
+                  row["wheel_contact_y"].values)
         columns += [np.asarray(v, dtype=float)[::-1] for v in values]  # y to the left: reverse
     centre = table.sel(y=0.0, method="nearest")
     e0 = 0.5 * float(centre["contact_Y"].sel(side="right") - centre["contact_Y"].sel(side="left"))

@@ -188,6 +188,9 @@ def _table_wheelset_dataset(model, ts, ys, p, surf):
         "normal_force": _var(("time", "wheel"), np.stack([out[:, 7], out[:, 15]], axis=1), "N",
                              "normal contact force from the contact table"),
         "rolling_radius_difference": _var("time", out[:, 16], "m", "rolling radius difference left - right"),
+        "contact_lateral_position": _var(("time", "wheel"), out[:, 17:19], "m",
+                                         "contact point on the wheel profile (profile coordinate)"),
+        "contact_angle": _var("time", out[:, 19], "rad", "angle of the contact point on the wheel"),
     })
     return xr.Dataset(data, coords=coords)
 

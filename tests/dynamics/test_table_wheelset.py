@@ -71,3 +71,15 @@ def test_result_variables(table):
     assert float(ds.normal_force.min()) > 0.0
     for name, var in ds.data_vars.items():
         assert var.attrs["units"] and var.attrs["long_name"], name
+
+
+def test_contact_positions_follow_the_table(table):
+    model = TableWheelsetModel(speed=60.0, **SUSPENSION, table=table, initial_lateral_displacement=4e-3)
+    ds = simulate(model, 0.3, n_output=61)
+    y = ds.lateral_displacement.values
+    for wheel in ("left", "right"):
+        # the table's y is to the right, the model's to the left
+        expected = np.interp(-y, table.y.values, table.wheel_contact_y.sel(side=wheel).values)
+        np.testing.assert_allclose(ds.contact_lateral_position.sel(wheel=wheel).values, expected, atol=1e-12)
+    angle = np.unwrap(ds.contact_angle.values)
+    assert np.all(np.diff(angle) > 0.0) and angle[-1] == pytest.approx(60.0 * 0.3 / 0.46, rel=0.01)
