@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import math
 
 import numpy as np
@@ -16,6 +17,7 @@ __all__ = ["simulate", "METHODS"]
 
 METHODS = {"dopri5": integ.METHOD_DOPRI5, "rosenbrock": integ.METHOD_ROSENBROCK}
 _EPS = np.finfo(float).eps
+_log = logging.getLogger("railwear.dynamics")
 
 
 def _options(model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step):
@@ -70,8 +72,11 @@ def simulate(
     max_step=math.inf,
     max_norm=1e6,
     initial_state=None,
+    progress=None,
+    chunks=None,
 ) -> xr.Dataset:
-    """Integrate ``model`` (``WheelsetModel``, ``TableWheelsetModel``, ``DiskWheelModel`` or ``BogieModel``) over ``[0, t_end]`` seconds.
+    """Integrate ``model`` (``WheelsetModel``, ``TableWheelsetModel``, ``DiskWheelModel`` or
+    ``BogieModel``) over ``[0, t_end]`` seconds.
 
     Output at ``t_eval`` (dense output; default ``n_output`` equidistant times) or every
     ``output_every`` accepted steps. ``method``: ``"dopri5"`` (explicit, default) or
@@ -80,32 +85,69 @@ def simulate(
     Raises ``ScenarioError`` for bad options and ``NumericalInstabilityError`` if the solution
     blows up (any state above ``max_norm``), the step size underflows or ``max_steps`` is hit.
     ``initial_state`` (length ``model.n_states``) replaces the model's initial state, e.g. to
-    continue a run at another speed.
+    continue a run at another speed. For long runs, ``chunks`` splits the interval into that many
+    compiled runs (each restarting its step-size control), with a log line on the
+    ``railwear.dynamics`` logger and a call ``progress(fraction)`` after each (default 20
+    chunks when ``progress`` is given).
     """
     if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel, TableWheelsetModel)):
         raise ScenarioError(f"model: expected one of the railwear.dynamics models, got {type(model).__name__}")
     t_end, method_id, rtol, atol, t_eval, every = _options(
         model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step
     )
+    if chunks is None:
+        chunks = 1 if progress is None else 20
+    if int(chunks) != chunks or chunks < 1:
+        raise ScenarioError(f"chunks: must be a positive whole number, got {chunks!r}")
     p = model.params()
     surf = model.surface()
-    y0 = model.initial_state() if initial_state is None else _initial_state(model, initial_state, p, surf)
+    y = model.initial_state() if initial_state is None else _initial_state(model, initial_state, p, surf)
     use_events = model.kind == k.KIND_DISK_WHEEL
-    ts, ys, n_out, status, t_last, y_last, stats, ev_t, ev_y, ev_dir = integ.integrate(
-        model.kind, p, surf, y0, 0.0, t_end, rtol, atol, method_id, 0.0, float(max_step), int(max_steps), t_eval,
-        every, use_events, float(max_norm),
-    )
-    if status != integ.STATUS_OK:
-        reason = {
-            integ.STATUS_MAX_STEPS: f"max_steps = {max_steps} reached",
-            integ.STATUS_STEP_TOO_SMALL: "the step size fell to round-off (tolerance cannot be met or the solution is singular)",
-            integ.STATUS_BLOW_UP: f"a state exceeded max_norm = {max_norm:g}",
-        }[status]
-        raise NumericalInstabilityError(
-            f"{type(model).__name__}: {reason} at t = {t_last:.6g} s", last_good=y_last.copy(), last_time=float(t_last)
+    bounds = np.linspace(0.0, t_end, int(chunks) + 1)
+    parts_t, parts_y, parts_ev_t, parts_ev_dir = [], [], [], []
+    stats = np.zeros(5, dtype=np.int64)
+    for i in range(int(chunks)):
+        t0, t1 = bounds[i], bounds[i + 1]
+        if t_eval.size:
+            lo = 0 if i == 0 else np.searchsorted(t_eval, t0, side="right")
+            segment_eval = t_eval[lo:np.searchsorted(t_eval, t1, side="right")]
+            if segment_eval.size == 0:
+                segment_eval = np.array([t1])  # keep dense mode; this point is dropped below
+                drop_all = True
+            else:
+                drop_all = False
+        else:
+            segment_eval, drop_all = t_eval, False
+        ts, ys, n_out, status, t_last, y_last, seg_stats, ev_t, ev_y, ev_dir = integ.integrate(
+            model.kind, p, surf, y, t0, t1, rtol, atol, method_id, 0.0, float(max_step), int(max_steps),
+            segment_eval, every, use_events, float(max_norm),
         )
-    ts = ts[:n_out].copy()
-    ys = ys[:n_out].copy()
+        stats += seg_stats
+        if status != integ.STATUS_OK:
+            reason = {
+                integ.STATUS_MAX_STEPS: f"max_steps = {max_steps} reached",
+                integ.STATUS_STEP_TOO_SMALL:
+                    "the step size fell to round-off (tolerance cannot be met or the solution is singular)",
+                integ.STATUS_BLOW_UP: f"a state exceeded max_norm = {max_norm:g}",
+            }[status]
+            raise NumericalInstabilityError(
+                f"{type(model).__name__}: {reason} at t = {t_last:.6g} s", last_good=y_last.copy(),
+                last_time=float(t_last),
+            )
+        first = 1 if (i > 0 and not t_eval.size) else 0  # every-n mode repeats the segment start
+        if not drop_all:
+            parts_t.append(ts[first:n_out].copy())
+            parts_y.append(ys[first:n_out].copy())
+        parts_ev_t.append(ev_t.copy())
+        parts_ev_dir.append(ev_dir.copy())
+        y = y_last.copy()
+        if chunks > 1:
+            _log.info("%s: t = %.4g of %.4g s, %d right-hand sides", type(model).__name__, t1, t_end,
+                      int(stats[integ.STAT_NFEV]))
+        if progress is not None:
+            progress(float(t1 / t_end))
+    ts, ys = np.concatenate(parts_t), np.concatenate(parts_y)
+    ev_t, ev_dir = np.concatenate(parts_ev_t), np.concatenate(parts_ev_dir)
     if isinstance(model, WheelsetModel):
         ds = _wheelset_dataset(model, ts, ys, p, surf)
     elif isinstance(model, BogieModel):

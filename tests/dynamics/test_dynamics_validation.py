@@ -96,3 +96,21 @@ def test_build_model_from_a_section():
     _raises_naming("model", lambda: build_model("tram", {}))
     _raises_naming("speed", lambda: build_model("cooperrider", {}))
     _raises_naming("wheel_mass", lambda: build_model("disk_wheel", dict(DISK, wheel_mass=-1.0)))
+
+
+@pytest.mark.parametrize("output", [dict(n_output=401), dict(output_every=5)])
+def test_chunked_run_with_progress_matches_one_run(output):
+    model = DiskWheelModel(**DISK, sprung_mass=5000.0, rail_mass=150.0, pad_stiffness=1e8,
+                           initial_vertical_velocity=0.3, traction_torque=2e3)
+    whole = simulate(model, 0.04, rtol=1e-10, **output)
+    seen = []
+    chunked = simulate(model, 0.04, rtol=1e-10, progress=seen.append, chunks=7, **output)
+    assert seen == pytest.approx(np.arange(1, 8) / 7) and seen[-1] == 1.0
+    assert np.all(np.diff(chunked.time.values) > 0.0)
+    assert chunked.time.values[0] == 0.0 and chunked.time.values[-1] == pytest.approx(0.04)
+    np.testing.assert_allclose(chunked.event_time.values, whole.event_time.values, rtol=0, atol=1e-9)
+    if "n_output" in output:
+        np.testing.assert_array_equal(chunked.time.values, whole.time.values)
+        scale = float(np.abs(whole.normal_force).max())
+        np.testing.assert_allclose(chunked.normal_force.values, whole.normal_force.values, rtol=0, atol=1e-6 * scale)
+    _raises_naming("chunks", lambda: simulate(model, 0.04, chunks=0))
