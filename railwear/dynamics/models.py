@@ -574,6 +574,59 @@ class DiskWheelModel:
             f[i] = -kc
         return dofs, m, c, kk, f
 
+    LINEAR_OUTPUTS = ("normal_force", "creepage", "creep_force", "frictional_power")
+
+    def linearisation(self):
+        """``(A, B, C, D)`` of steady rolling (at the steady creepage of the torque) with the
+        filtered radius deviation ``u_bar`` as input: ``x' = A x + B u_bar``,
+        ``[N, xi, Fx, power] = C x + D u_bar`` (deviations from steady rolling), by central
+        differences of the compiled kernel. The rotation angle ``phi`` only drifts and does not
+        act on the rest (a uniform ``u`` makes ``x_c`` irrelevant)."""
+        p = self.params()
+        p[k.DW_N_CELLS] = 2
+        y0 = self.initial_state()
+        n = self.n_states
+        omega_c = math.sqrt(self.contact_stiffness / self.wheel_mass)
+        d0 = self.static_approach
+        steps = np.array([1e-6, 1e-7 * y0[1], 1e-4 * d0, 1e-4 * d0 * omega_c, 1e-4 * d0, 1e-4 * d0 * omega_c,
+                          1e-4 * d0, 1e-4 * d0 * omega_c])
+        du = 1e-4 * d0
+
+        def uniform(u):
+            dx = math.pi
+            return np.array([u, u, 0.0, u * dx, 2.0 * u * dx])
+
+        def evaluate(y, u):
+            f = np.empty(n)
+            surf = uniform(u)
+            k.rhs(self.kind, 0.0, y, p, surf, f)
+            g = k.outputs(self.kind, np.zeros(1), y[None, :], p, surf, k.DW_N_OUTPUTS)[0, :4]
+            return f, g
+
+        a, c = np.zeros((n, n)), np.zeros((4, n))
+        for j in range(n):
+            yp, ym = y0.copy(), y0.copy()
+            yp[j] += steps[j]
+            ym[j] -= steps[j]
+            (fp, gp), (fm, gm) = evaluate(yp, 0.0), evaluate(ym, 0.0)
+            a[:, j] = (fp - fm) / (2 * steps[j])
+            c[:, j] = (gp - gm) / (2 * steps[j])
+        (fp, gp), (fm, gm) = evaluate(y0, du), evaluate(y0, -du)
+        return a, (fp - fm) / (2 * du), c, (gp - gm) / (2 * du)
+
+    def transfer(self, angular_frequency, output="frictional_power") -> np.ndarray:
+        """Linear transfer function from ``u_bar`` to ``output`` (one of ``LINEAR_OUTPUTS``) at
+        ``angular_frequency`` [rad/s]: ``C (i w - A)^-1 B + D`` (complex, ``exp(i w t)``).
+        A harmonic ``u`` of order ``n`` excites ``w = n Omega`` with ``Omega`` the wheel's
+        angular velocity (``V (1 + xi) / R0`` under traction)."""
+        if output not in self.LINEAR_OUTPUTS:
+            raise ScenarioError(f"output: must be one of {self.LINEAR_OUTPUTS}, got {output!r}")
+        a, b, c, d = self.linearisation()
+        row = self.LINEAR_OUTPUTS.index(output)
+        omega = np.atleast_1d(np.asarray(angular_frequency, dtype=float))
+        out = np.array([c[row] @ np.linalg.solve(1j * w * np.eye(self.n_states) - a, b) + d[row] for w in omega])
+        return out if np.ndim(angular_frequency) else out[0]
+
     def contact_force_transfer(self, angular_frequency) -> np.ndarray:
         """Linear transfer function ``N_hat / u_hat`` [N/m] from the filtered radius deviation to
         the dynamic normal force at ``angular_frequency`` [rad/s] (complex, ``exp(i w t)``)."""

@@ -147,3 +147,26 @@ def test_creep_coefficient_grows_with_the_load_like_kalker():
     normal, creepage, force = out[0], out[1], out[2]
     assert normal == pytest.approx(2**1.5 * model.static_load, rel=1e-12)
     assert force / creepage == pytest.approx(model.f11 * (normal / model.static_load) ** (2 / 3), rel=1e-12)
+
+
+def test_numerical_linearisation_reproduces_the_analytic_force_transfer():
+    model = DiskWheelModel(**P2, traction_torque=8e3)
+    omega = np.array([50.0, 300.0, 456.0, 800.0])
+    np.testing.assert_allclose(model.transfer(omega, "normal_force"), model.contact_force_transfer(omega), rtol=1e-8)
+
+
+def test_creepage_and_frictional_power_follow_their_transfer_functions_under_traction():
+    """The linearisation about steady traction (the Fourier strategy's building block): a small
+    harmonic u of order 7 modulates creepage, creep force and frictional power at 7 Omega, with
+    Omega = V (1 + xi) / R0, as the transfer functions say."""
+    order = 7
+    model = DiskWheelModel(**P2, traction_torque=8e3, radius_deviation=1e-7 * np.cos(order * ANGLES))
+    ds = simulate(model, 2.0, rtol=1e-10, n_output=20001)
+    late = ds.time.values > 1.0
+    t = ds.time.values[late]
+    omega = order * model.speed * (1 + model.steady_creepage()) / model.radius
+    u_hat, _ = _harmonic_fit(t, ds.radius_deviation_at_contact.values[late], omega)
+    for name in ("creepage", "creep_force", "frictional_power"):
+        s_hat, residual = _harmonic_fit(t, ds[name].values[late], omega)
+        assert residual < 1e-3 * abs(s_hat), name
+        assert s_hat / u_hat == pytest.approx(model.transfer(omega, name), rel=1e-3), name
