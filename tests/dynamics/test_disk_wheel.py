@@ -170,3 +170,13 @@ def test_creepage_and_frictional_power_follow_their_transfer_functions_under_tra
         s_hat, residual = _harmonic_fit(t, ds[name].values[late], omega)
         assert residual < 1e-3 * abs(s_hat), name
         assert s_hat / u_hat == pytest.approx(model.transfer(omega, name), rel=1e-3), name
+
+
+def test_rigid_disk_limit_normal_force_is_mass_times_curvature():
+    """Paper: for a rigid disk wheel the normal force is, up to the load, the squared speed times
+    the curvature: N - W = m (V/R0)^2 u_xx, i.e. N_hat / u_hat = -m omega^2 below the contact
+    resonance (free wheel, rigid rail)."""
+    model = DiskWheelModel(**dict(RIGID, primary_stiffness=0.0, primary_damping=0.0))
+    omega = np.array([5.0, 20.0, 60.0])
+    ratio = model.contact_force_transfer(omega) / (-model.wheel_mass * omega**2)
+    np.testing.assert_allclose(ratio, 1.0, rtol=2e-3)
