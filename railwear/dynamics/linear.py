@@ -98,6 +98,8 @@ def critical_speed(model, v_min=0.5, v_max=1.0e4, n_scan=400) -> float:
     Returns ``inf`` if the model is stable over the whole range. ``model`` is any object with a
     ``state_matrix(speed)`` method (the wheelset, the disk wheel, the bogie).
     """
+    if not callable(getattr(model, "state_matrix", None)):
+        raise TypeError(f"critical_speed: {type(model).__name__} has no linear state matrix (no hunting mode)")
     speeds = np.geomspace(v_min, v_max, n_scan)
     g_prev = max_real_part(model, speeds[0])
     lower = v_min

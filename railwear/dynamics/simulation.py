@@ -20,7 +20,7 @@ _EPS = np.finfo(float).eps
 _log = logging.getLogger("railwear.dynamics")
 
 
-def _options(model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step):
+def _options(model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step, max_norm):
     try:
         t_end = float(t_end)
     except (TypeError, ValueError):
@@ -37,6 +37,10 @@ def _options(model, t_end, method, rtol, atol, t_eval, output_every, n_output, m
         raise ScenarioError(f"atol: must be a positive finite number, got {atol!r}")
     if not (max_step > 0.0):
         raise ScenarioError(f"max_step: must be positive, got {max_step!r}")
+    if not (max_norm > 0.0):
+        raise ScenarioError(f"max_norm: must be positive, got {max_norm!r}")
+    if t_eval is None and output_every is None and (int(n_output) != n_output or n_output < 1):
+        raise ScenarioError(f"n_output: must be a positive whole number, got {n_output!r}")
     if int(max_steps) < 1:
         raise ScenarioError(f"max_steps: must be at least 1, got {max_steps!r}")
     every = 1
@@ -93,7 +97,7 @@ def simulate(
     if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel, TableWheelsetModel)):
         raise ScenarioError(f"model: expected one of the railwear.dynamics models, got {type(model).__name__}")
     t_end, method_id, rtol, atol, t_eval, every = _options(
-        model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step
+        model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step, max_norm
     )
     if chunks is None:
         chunks = 1 if progress is None else 20

@@ -52,7 +52,8 @@ def test_torque_beyond_adhesion():
 
 @pytest.mark.parametrize("option, value", [("rtol", 1e-16), ("rtol", 0.0), ("rtol", 2.0), ("atol", 0.0),
                                            ("atol", -1e-9), ("method", "euler"), ("t_eval", [0.0, 0.2, 0.1]),
-                                           ("output_every", 0)])
+                                           ("output_every", 0), ("n_output", 0), ("max_norm", 0.0),
+                                           ("max_step", -1.0)])
 def test_impossible_options(option, value):
     model = WheelsetModel(**WHEELSET)
     _raises_naming(option, lambda: simulate(model, 1.0, **{option: value}))
@@ -114,3 +115,10 @@ def test_chunked_run_with_progress_matches_one_run(output):
         scale = float(np.abs(whole.normal_force).max())
         np.testing.assert_allclose(chunked.normal_force.values, whole.normal_force.values, rtol=0, atol=1e-6 * scale)
     _raises_naming("chunks", lambda: simulate(model, 0.04, chunks=0))
+
+
+def test_critical_speed_needs_a_state_matrix():
+    from railwear.dynamics import critical_speed
+
+    with pytest.raises(TypeError, match="state matrix"):
+        critical_speed(DiskWheelModel(**DISK))
