@@ -642,13 +642,20 @@ class DiskWheelModel:
 
 
 def model_fields(model) -> dict:
-    """The model's fields as a dict of plain values (arrays as lists), for result attributes."""
+    """The model's scalar fields as plain values for result attributes (``None`` as "none");
+    arrays, tuples and tables are left out, except a contact table's profile names."""
     out = {}
     for fld in fields(model):
         value = getattr(model, fld.name)
-        if isinstance(value, (np.ndarray, tuple)):
-            continue
-        out[fld.name] = "none" if value is None else value
+        if value is None:
+            out[fld.name] = "none"
+        elif isinstance(value, (bool, np.bool_)):
+            out[fld.name] = int(value)
+        elif isinstance(value, (int, float, str, np.integer, np.floating)):
+            out[fld.name] = value
+        elif fld.name == "table":
+            attrs = getattr(value, "attrs", {})
+            out["table_profiles"] = f"{attrs.get('wheel_profile', '?')}/{attrs.get('rail_profile', '?')}"
     return out
 
 

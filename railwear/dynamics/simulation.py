@@ -173,7 +173,7 @@ def simulate(
         }
     )
     for name, value in model_fields(model).items():
-        ds.attrs[f"model_{name}"] = value if not isinstance(value, bool) else int(value)
+        ds.attrs[f"model_{name}"] = value
     return ds
 
 

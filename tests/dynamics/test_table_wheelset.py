@@ -83,3 +83,14 @@ def test_contact_positions_follow_the_table(table):
         np.testing.assert_allclose(ds.contact_lateral_position.sel(wheel=wheel).values, expected, atol=1e-12)
     angle = np.unwrap(ds.contact_angle.values)
     assert np.all(np.diff(angle) > 0.0) and angle[-1] == pytest.approx(60.0 * 0.3 / 0.46, rel=0.01)
+
+
+def test_result_writes_to_netcdf(table, tmp_path):
+    import xarray as xr
+
+    ds = simulate(TableWheelsetModel(speed=50.0, **SUSPENSION, table=table), 0.05, n_output=11)
+    path = tmp_path / "table_wheelset.nc"
+    ds.to_netcdf(path, engine="h5netcdf")
+    back = xr.open_dataset(path, engine="h5netcdf")
+    assert back.attrs["model_table_profiles"] == "S1002/UIC60"
+    np.testing.assert_array_equal(back.lateral_displacement.values, ds.lateral_displacement.values)
