@@ -357,7 +357,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
         if t + h >= t_end or t + 1.01 * h >= t_end:
             h = t_end - t
             last = True
-        if h <= 1e-14 * max(abs(t), abs(span)):
+        if h <= 1e-14 * max(abs(t), abs(span)) and not last:  # a short last step is harmless
             status = STATUS_STEP_TOO_SMALL
             break
         ok = True
