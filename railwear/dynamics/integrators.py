@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from railwear.dynamics.kernels import event, rhs, rhs_inline
+from railwear.dynamics.kernels import contact_power, event, patch_half_angle, rhs, rhs_inline, sweep
 
 METHOD_DOPRI5 = 0
 METHOD_ROSENBROCK = 1
@@ -257,10 +257,48 @@ def _locate_event(kind, p, surf, t, y, h, q, g_lo, g_hi, tmp):
     return s_hi
 
 
+# three-point Gauss-Legendre rule on [0, 1]
+_GAUSS_NODES = np.array([0.5 - 0.5 * math.sqrt(0.6), 0.5, 0.5 + 0.5 * math.sqrt(0.6)])
+_GAUSS_WEIGHTS = np.array([5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0])
+
+
 @njit(cache=True)
-def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events, max_norm):
+def _deposit_step(kind, p, surf, t, y, h, q, s_end, energy, tmp):
+    """Frictional energy of the step ``[t, t + s_end h]`` onto the wheel cells. The step is cut
+    into pieces in which the contact moves by at most one cell; on each, the energy is the
+    three-point Gauss-Legendre integral of the power on the step's interpolant, swept over the
+    cells as the patch moves linearly between the piece's end angles."""
+    dx = 2.0 * math.pi / energy.shape[0]
+    w = patch_half_angle(kind, p)
+    _dense(y, h, q, 0.0, tmp)
+    x_start, _ = contact_power(kind, t, tmp, p, surf)
+    _dense(y, h, q, s_end, tmp)
+    x_end, _ = contact_power(kind, t + s_end * h, tmp, p, surf)
+    pieces = max(1, int(math.ceil(abs(x_end - x_start) / dx)))
+    ds = s_end / pieces
+    xa = x_start
+    for m in range(pieces):
+        s0 = m * ds
+        amount = 0.0
+        for g in range(3):
+            s = s0 + ds * _GAUSS_NODES[g]
+            _dense(y, h, q, s, tmp)
+            _, power = contact_power(kind, t + s * h, tmp, p, surf)
+            amount += _GAUSS_WEIGHTS[g] * power
+        amount *= ds * h
+        _dense(y, h, q, s0 + ds, tmp)
+        xb, _ = contact_power(kind, t + (s0 + ds) * h, tmp, p, surf)
+        sweep(energy, xa, xb, w, amount)
+        xa = xb
+
+
+@njit(cache=True)
+def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events, max_norm,
+              energy):
     """Integrate model ``kind`` from ``t0`` to ``t_end``.
 
+    ``energy`` (one value per wheel cell, or empty for none): the frictional energy of the run
+    [J] is added to it, cell by cell, as the contact patch passes (disk wheel).
     Returns ``(ts, ys, n_out, status, t_last, y_last, stats, event_t, event_y, event_dir)``:
     output times and states (first ``n_out`` rows), a status code (``STATUS_*``), the last
     accepted time and state, counters (``STAT_*``) and the located events (direction +1 when
@@ -425,6 +463,11 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
             ev_y[n_ev] = ynew
             ev_dir[n_ev] = hit
             n_ev += 1
+        if energy.shape[0] > 0:
+            if not q_ready:
+                _dopri_dense(k, q)
+                q_ready = True
+            _deposit_step(kind, p, surf, t, y, h, q, s_end, energy, tmp)
         if dense_mode:
             if not q_ready and i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
                 _dopri_dense(k, q)

@@ -515,6 +515,67 @@ def disk_wheel_event(t, y, p, surf):
     return _disk_contact(t, y, p, surf)[6]
 
 
+@njit(cache=True, inline="always")
+def _ramp_integral(u, w):
+    """``K(u) = integral_0^u clamp(s, 0, 2w) ds``."""
+    if u <= 0.0:
+        return 0.0
+    if u < 2.0 * w:
+        return 0.5 * u * u
+    return 2.0 * w * u - 2.0 * w * w
+
+
+@njit(cache=True, inline="always")
+def _sweep_cdf(x, xa, xb, w):
+    """Fraction of the energy below angle ``x`` when a patch of half-width ``w`` moves uniformly
+    from ``xa`` to ``xb >= xa`` (the box of the patch convolved with the sweep)."""
+    length = xb - xa
+    if w <= 0.0:
+        if length <= 0.0:
+            return 1.0 if x >= xa else 0.0
+        return min(max((x - xa) / length, 0.0), 1.0)
+    if length <= 1e-12 * w:
+        return min(max((x + w - xa) / (2.0 * w), 0.0), 1.0)
+    return (_ramp_integral(x + w - xa, w) - _ramp_integral(x + w - xb, w)) / (2.0 * w * length)
+
+
+@njit(cache=True)
+def sweep(energy, xa, xb, half_angle, amount):
+    """Add ``amount`` [J] to the cells of ``energy`` as a contact patch of half-width
+    ``half_angle`` sweeps uniformly from angle ``xa`` to ``xb`` (cell ``j`` covers
+    ``[x_j - dx/2, x_j + dx/2]``, ``x_j = 2 pi j / n``, periodic). Exact for a uniform sweep;
+    the cells receive exactly ``amount``."""
+    if xb < xa:
+        xa, xb = xb, xa
+    n = energy.shape[0]
+    dx = TWO_PI / n
+    first = int(math.floor((xa - half_angle) / dx + 0.5))
+    last = int(math.floor((xb + half_angle) / dx + 0.5))
+    below = _sweep_cdf((first - 0.5) * dx, xa, xb, half_angle)
+    for c in range(first, last + 1):
+        above = _sweep_cdf((c + 0.5) * dx, xa, xb, half_angle)
+        energy[c % n] += amount * (above - below)
+        below = above
+
+
+@njit(cache=True)
+def contact_power(kind, t, y, p, surf):
+    """``(x_c, power)``: the contact angle on the wheel, not wrapped [rad], and the frictional
+    power [W] (disk wheel; ``(0, 0)`` for the other models)."""
+    if kind == KIND_DISK_WHEEL:
+        power = _disk_contact(t, y, p, surf)[3]
+        return p[DW_INITIAL_ANGLE] + p[DW_SPEED] / p[DW_RADIUS] * t + y[0], power
+    return 0.0, 0.0
+
+
+@njit(cache=True)
+def patch_half_angle(kind, p):
+    """Half-width of the contact patch on the wheel [rad] (disk wheel; 0 otherwise)."""
+    if kind == KIND_DISK_WHEEL:
+        return p[DW_PATCH_HALF_ANGLE]
+    return 0.0
+
+
 # ---- test systems ---------------------------------------------------------------------------
 @njit(cache=True, inline="always")
 def linear_rhs(t, y, p, surf, dydt):

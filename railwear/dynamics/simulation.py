@@ -78,6 +78,7 @@ def simulate(
     initial_state=None,
     progress=None,
     chunks=None,
+    cell_energy=False,
 ) -> xr.Dataset:
     """Integrate ``model`` (``WheelsetModel``, ``TableWheelsetModel``, ``DiskWheelModel`` or
     ``BogieModel``) over ``[0, t_end]`` seconds.
@@ -92,7 +93,9 @@ def simulate(
     continue a run at another speed. For long runs, ``chunks`` splits the interval into that many
     compiled runs (each restarting its step-size control), with a log line on the
     ``railwear.dynamics`` logger and a call ``progress(fraction)`` after each (default 20
-    chunks when ``progress`` is given).
+    chunks when ``progress`` is given). ``cell_energy=True`` (disk wheel with a radius
+    deviation grid) adds ``frictional_energy``: the frictional energy [J] each cell of the grid
+    received over the run, spread uniformly over the patch as it passes (paper Figs 3 and 7).
     """
     if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel, TableWheelsetModel)):
         raise ScenarioError(f"model: expected one of the railwear.dynamics models, got {type(model).__name__}")
@@ -107,6 +110,11 @@ def simulate(
     surf = model.surface()
     y = model.initial_state() if initial_state is None else _initial_state(model, initial_state, p, surf)
     use_events = model.kind == k.KIND_DISK_WHEEL
+    energy = np.zeros(0)
+    if cell_energy:
+        if model.kind != k.KIND_DISK_WHEEL or model.n_cells() == 0:
+            raise ScenarioError("cell_energy: needs a disk wheel with a radius_deviation grid")
+        energy = np.zeros(model.n_cells())
     bounds = np.linspace(0.0, t_end, int(chunks) + 1)
     parts_t, parts_y, parts_ev_t, parts_ev_dir = [], [], [], []
     stats = np.zeros(5, dtype=np.int64)
@@ -124,7 +132,7 @@ def simulate(
             segment_eval, drop_all = t_eval, False
         ts, ys, n_out, status, t_last, y_last, seg_stats, ev_t, ev_y, ev_dir = integ.integrate(
             model.kind, p, surf, y, t0, t1, rtol, atol, method_id, 0.0, float(max_step), int(max_steps),
-            segment_eval, every, use_events, float(max_norm),
+            segment_eval, every, use_events, float(max_norm), energy,
         )
         stats += seg_stats
         if status != integ.STATUS_OK:
@@ -160,6 +168,11 @@ def simulate(
         ds = _table_wheelset_dataset(model, ts, ys, p, surf)
     else:
         ds = _disk_wheel_dataset(model, ts, ys, p, surf, ev_t, ev_dir)
+        if cell_energy:
+            angles = 2.0 * np.pi * np.arange(energy.size) / energy.size
+            ds = ds.assign_coords(cell_angle=_var("cell_angle", angles, "rad", "angle of the wheel cell centre"))
+            ds["frictional_energy"] = _var("cell_angle", energy, "J",
+                                           "frictional energy dissipated in the contact while over the cell")
     ds.attrs.update(
         {
             "model": type(model).__name__,

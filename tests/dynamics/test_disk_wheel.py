@@ -8,6 +8,7 @@ import pytest
 from railwear.dynamics import DiskWheelModel
 from railwear.dynamics import kernels
 from railwear.dynamics import simulate
+from railwear.errors import ScenarioError
 
 N_CELLS = 512
 ANGLES = 2.0 * np.pi * np.arange(N_CELLS) / N_CELLS
@@ -99,7 +100,7 @@ def test_events_sit_on_the_contact_boundary():
     model = DiskWheelModel(**P2, initial_vertical_velocity=0.3)
     p, surf = model.params(), model.surface()
     out = integ.integrate(model.kind, p, surf, model.initial_state(), 0.0, 0.05, 1e-9, 1e-13, integ.METHOD_DOPRI5,
-                          0.0, np.inf, 10**6, np.zeros(0), 1, True, 1e6)
+                          0.0, np.inf, 10**6, np.zeros(0), 1, True, 1e6, np.zeros(0))
     ev_t, ev_y = out[7], out[8]
     assert ev_t.size >= 2
     gaps = [kernels.event(model.kind, t, y, p, surf) for t, y in zip(ev_t, ev_y)]
@@ -180,3 +181,30 @@ def test_rigid_disk_limit_normal_force_is_mass_times_curvature():
     omega = np.array([5.0, 20.0, 60.0])
     ratio = model.contact_force_transfer(omega) / (-model.wheel_mass * omega**2)
     np.testing.assert_allclose(ratio, 1.0, rtol=2e-3)
+
+
+def test_frictional_energy_per_cell_is_conserved_and_placed_under_the_patch():
+    base = dict(P2, patch_half_length=6e-3)
+    round_wheel = DiskWheelModel(**base, traction_torque=8e3, radius_deviation=np.zeros(N_CELLS))
+    omega = round_wheel.speed * (1 + round_wheel.steady_creepage()) / round_wheel.radius
+    revolution = 2 * np.pi / omega
+    # steady rolling over whole revolutions: every cell gets the same energy
+    ds = simulate(round_wheel, 4 * revolution, rtol=1e-10, n_output=4001, cell_energy=True)
+    energy = ds.frictional_energy.values
+    assert ds.frictional_energy.attrs["units"] == "J" and ds.cell_angle.size == N_CELLS
+    assert energy.sum() == pytest.approx(float(ds.frictional_power[0]) * 4 * revolution, rel=1e-9)
+    assert np.std(energy) < 1e-9 * np.mean(energy)
+    # a point contact over a quarter turn: only the swept cells, equally (the end cells by halves)
+    point = DiskWheelModel(**dict(base, patch_half_length=0.0), traction_torque=8e3,
+                           radius_deviation=np.zeros(N_CELLS))
+    quarter = simulate(point, 0.25 * revolution, rtol=1e-10, n_output=11, cell_energy=True).frictional_energy.values
+    assert np.all(quarter[N_CELLS // 4 + 1:] == 0.0)
+    np.testing.assert_allclose(quarter[1:N_CELLS // 4], quarter[1], rtol=1e-9)
+    np.testing.assert_allclose([quarter[0], quarter[N_CELLS // 4]], 0.5 * quarter[1], rtol=1e-6)
+    # an out-of-round wheel: the total still equals the integral of the power
+    worn = DiskWheelModel(**base, traction_torque=8e3, radius_deviation=2e-6 * np.cos(7 * ANGLES))
+    ds = simulate(worn, 3 * revolution, rtol=1e-10, n_output=30001, cell_energy=True)
+    total = np.trapezoid(ds.frictional_power.values, ds.time.values)
+    assert ds.frictional_energy.values.sum() == pytest.approx(total, rel=1e-6)
+    with pytest.raises(ScenarioError, match="cell_energy"):
+        simulate(DiskWheelModel(**base), 0.01, cell_energy=True)

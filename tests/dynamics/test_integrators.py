@@ -19,7 +19,7 @@ P_LINEAR = np.concatenate([[3.0], A.ravel()])
 def _run(method, t_end, rtol, atol, t_eval=NO_EVAL, h0=0.0, h_max=np.inf, every=1, p=P_LINEAR, y0=Y0,
          kind=kernels.KIND_LINEAR, max_norm=1e300):
     return integ.integrate(kind, p, NO_SURF, y0, 0.0, t_end, rtol, atol, method, h0, h_max, 10**7, t_eval, every,
-                           False, max_norm)
+                           False, max_norm, np.zeros(0))
 
 
 def _fixed_step_error(method, h):
