@@ -1,0 +1,138 @@
+"""Strategy 2 of the paper: the Fourier technique for dynamics linear in ``u`` (Brommundt 1996).
+
+A harmonic ``Re(û_n e^{i n x})`` of the radius deviation passes under the contact at the angular
+frequency ``ω_n = n Ω`` (``Ω`` the wheel's angular velocity). Averaged over the patch (the contact
+filter ``F_n = sin(n δ) / (n δ)``, ``δ`` the patch half-length over the radius) it drives the
+wear driver ``D`` (normal force or frictional power) through the linear transfer function
+``H(ω)``; the wear law turns ``D`` into a depth rate ``c D`` at the point in contact, spread over
+the patch again (``F_n`` once more). So each harmonic evolves on its own:
+
+    d û_n / dt = λ_n û_n,   λ_n = -c H(n Ω) F_n²
+
+``Re λ_n`` is the growth rate (1/s) and ``-Im λ_n / n`` the drift of the pattern round the wheel
+(rad/s). The mean radius falls at ``c D_0``. No dynamics is integrated in time.
+"""
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import xarray as xr
+
+from railwear.errors import ScenarioError
+
+
+def contact_filter(orders, half_angle):
+    """Mean of ``e^{i n x}`` over ``|x| <= half_angle`` (rad): ``sin(n δ)/(n δ)``."""
+    return np.sinc(np.asarray(orders, float) * half_angle / np.pi)
+
+
+@dataclass(frozen=True)
+class Fourier:
+    """Harmonic wear growth from a transfer function.
+
+    ``transfer(ω)``: driver per metre of filtered radius deviation at ``ω`` (rad/s), complex;
+    ``steady_driver`` the driver of the round wheel; ``depth_per_driver`` ``c`` (m/s per unit of
+    driver); ``wheel_speed`` Ω (rad/s); ``half_angle`` δ (rad); ``speed`` v (m/s) for distances.
+    """
+
+    transfer: Callable
+    steady_driver: float
+    depth_per_driver: float
+    wheel_speed: float
+    half_angle: float
+    speed: float
+
+    def __post_init__(self):
+        for name in ("depth_per_driver", "wheel_speed", "speed"):
+            if not getattr(self, name) > 0:
+                raise ScenarioError(f"{name} must be > 0")
+        if not 0 <= self.half_angle < np.pi / 2:
+            raise ScenarioError("half_angle must lie in [0, π/2)")
+
+    def rates(self, orders):
+        """``λ_n`` (1/s, complex) for polygon orders ``n >= 1``."""
+        n = np.atleast_1d(np.asarray(orders, float))
+        if np.any(n < 1):
+            raise ScenarioError("orders must be >= 1")
+        H = np.asarray(self.transfer(n * self.wheel_speed), complex)
+        return -self.depth_per_driver * H * contact_filter(n, self.half_angle) ** 2
+
+    @property
+    def mean_rate(self):
+        """Rate of the mean radius (m/s, negative: it wears)."""
+        return -self.depth_per_driver * self.steady_driver
+
+    def run(self, u0, duration, n_save=101):
+        """``u(x, t)`` (m) from ``u0`` on equally spaced angles over ``duration`` seconds of running."""
+        u0 = np.asarray(u0, float)
+        if u0.ndim != 1 or u0.size < 4:
+            raise ScenarioError("u0 must be 1-D with at least 4 angles")
+        if not duration > 0:
+            raise ScenarioError("duration must be > 0 (s)")
+        n = u0.size
+        spectrum = np.fft.rfft(u0)
+        orders = np.arange(1, spectrum.size)
+        lam = self.rates(orders)
+        t = np.linspace(0.0, duration, n_save)
+        evolved = np.empty((n_save, spectrum.size), complex)
+        evolved[:, 0] = spectrum[0] + n * self.mean_rate * t
+        # Fourier coefficients of Re(û e^{inx}) in numpy's e^{+inx} convention grow with e^{λ t}.
+        evolved[:, 1:] = spectrum[None, 1:] * np.exp(np.outer(t, lam))
+        u = np.fft.irfft(evolved, n, axis=-1)
+        return xr.Dataset(
+            {"u": (("time", "angle"), u, {"units": "m", "long_name": "radius deviation from the nominal radius"}),
+             "growth_rate": (("order",), lam.real, {"units": "s-1", "long_name": "growth rate of the harmonic"}),
+             "drift": (("order",), -lam.imag / orders,
+                       {"units": "rad s-1", "long_name": "drift of the harmonic round the wheel"})},
+            coords={"time": ("time", t, {"units": "s", "long_name": "time in service"}),
+                    "distance": ("time", t * self.speed / 1e3, {"units": "km", "long_name": "distance run"}),
+                    "angle": ("angle", 2 * np.pi * np.arange(n) / n, {"units": "rad", "long_name": "angle round the wheel"}),
+                    "order": ("order", orders, {"units": "1", "long_name": "polygon order"})},
+            attrs={"strategy": "Fourier technique for linear dynamics (Brommundt)"},
+        )
+
+    @classmethod
+    def disk_wheel(cls, model, law, band_width, driver="frictional_power"):
+        """From a :class:`~railwear.dynamics.DiskWheelModel` linearised about steady rolling.
+
+        ``driver`` "frictional_power" with an energy law (``c = β / (2π R0 w)``), or
+        "normal_force" with a law ``c`` = ``law`` (m/s per N) given as a number; ``band_width``
+        ``w`` (m) is the lateral width the wear spreads over.
+        """
+        if not band_width > 0:
+            raise ScenarioError("band_width must be > 0 (m)")
+        creepage = model.steady_creepage()
+        omega = model.speed * (1 + creepage) / model.radius
+        circumference = 2 * np.pi * model.radius
+        if driver == "frictional_power":
+            depth_per_driver = law.beta / (circumference * band_width)
+            steady = abs(model.traction_torque / model.radius * creepage) * model.speed
+
+            def transfer(w):
+                return model.transfer(w, "frictional_power")
+        elif driver == "normal_force":
+            depth_per_driver = float(law)
+            steady = model.static_load
+            transfer = model.contact_force_transfer
+        else:
+            raise ScenarioError(f"driver must be 'frictional_power' or 'normal_force', not {driver!r}")
+        return cls(transfer, steady, depth_per_driver, omega, model.patch_half_length / model.radius,
+                   model.speed)
+
+
+def stability_map(make_model, speeds, orders, law, band_width, driver="frictional_power"):
+    """Growth rate (1/km) of polygon order ``n`` over speed (m/s) for a linear dynamic model.
+
+    ``make_model(speed)`` returns the model at a speed. Per kilometre run, so that speeds compare.
+    """
+    speeds = np.atleast_1d(np.asarray(speeds, float))
+    orders = np.atleast_1d(np.asarray(orders, int))
+    rate = np.array([Fourier.disk_wheel(make_model(v), law, band_width, driver).rates(orders).real / v * 1e3
+                     for v in speeds])
+    return xr.Dataset(
+        {"growth_rate": (("speed", "order"), rate, {"units": "km-1", "long_name": "growth rate per kilometre run"})},
+        coords={"speed": ("speed", speeds, {"units": "m s-1", "long_name": "vehicle speed"}),
+                "order": ("order", orders, {"units": "1", "long_name": "polygon order"})},
+        attrs={"strategy": "Fourier technique", "driver": driver},
+    )
