@@ -1,8 +1,5 @@
 """The public entry points: a scenario in, an ``xarray.Dataset`` out (layer 4)."""
 
-import numpy as np
-
-from railwear.longterm.phenomenological import Phenomenological
 from railwear.scenario import load_scenario, scenario_hash, to_toml
 from railwear.scenario import build
 
@@ -41,10 +38,7 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
                 last[0] = time.monotonic()
 
     solver = scenario.solver
-    speeds = scenario.operation.speeds
-    strategy = Phenomenological(
-        build.wear_rate(scenario), np.asarray(speeds, float), solver.epsilon, solver.nu,
-        options={"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt})
+    strategy = build.strategy(scenario)
     depth = None if solver.depth_limit_mm is None else solver.depth_limit_mm * 1e-3
     ds = strategy.run(build.initial_state(scenario), until=solver.t_end, depth_limit=depth,
                       progress=progress, checkpoint=save, resume=resume)
@@ -57,7 +51,7 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
         "scenario": to_toml(scenario),
         "scenario_hash": scenario_hash(scenario),
         "railwear_version": __version__,
-        "strategy": "phenomenological evolution equation (paper eq. 4)",
+        "strategy": scenario.strategy.kind,
         "Conventions": "CF-1.10",
         "life_distance_km": life_km,
     })

@@ -35,6 +35,17 @@ def test_polygonalisation_ends_with_three_to_eight_maxima(runs):
     assert 3 <= int(runs["polygonalisation"].maxima) <= 8
 
 
+def test_linear_dynamics_grows_the_p2_order(runs):
+    """Fourier strategy: the order whose passing frequency n V / (2π R0) sits just above the P2
+    resonance of wheel and rail on the pads, sqrt(k_pad / (m_wheel + m_rail)) / 2π = 47 Hz, wins."""
+    ds = runs["linear-dynamics"]
+    assert ds.attrs["strategy"] == "fourier"
+    order = int(ds.dominant_order)
+    frequency = order * float(ds.speed) / (2 * np.pi * 0.46)
+    p2 = np.sqrt(1e8 / (1000.0 + 150.0)) / (2 * np.pi)
+    assert 7 <= order <= 9 and p2 < frequency < 1.5 * p2
+
+
 def test_stable_largest_deviation_falls_monotonically(runs):
     u = runs["stable"].u
     largest = np.abs(u - u.mean("angle")).max("angle").values

@@ -63,23 +63,42 @@ class Fourier:
         """Rate of the mean radius (m/s, negative: it wears)."""
         return -self.depth_per_driver * self.steady_driver
 
-    def run(self, u0, duration, n_save=101):
-        """``u(x, t)`` (m) from ``u0`` on equally spaced angles over ``duration`` seconds of running."""
+    def evolve(self, u0, t):
+        """``u`` (m) at the times ``t`` (s) from ``u0`` on equally spaced angles: ``(len(t), n)``."""
         u0 = np.asarray(u0, float)
         if u0.ndim != 1 or u0.size < 4:
             raise ScenarioError("u0 must be 1-D with at least 4 angles")
-        if not duration > 0:
-            raise ScenarioError("duration must be > 0 (s)")
+        t = np.atleast_1d(np.asarray(t, float))
         n = u0.size
         spectrum = np.fft.rfft(u0)
-        orders = np.arange(1, spectrum.size)
-        lam = self.rates(orders)
-        t = np.linspace(0.0, duration, n_save)
-        evolved = np.empty((n_save, spectrum.size), complex)
+        evolved = np.empty((t.size, spectrum.size), complex)
         evolved[:, 0] = spectrum[0] + n * self.mean_rate * t
         # Fourier coefficients of Re(û e^{inx}) in numpy's e^{+inx} convention grow with e^{λ t}.
-        evolved[:, 1:] = spectrum[None, 1:] * np.exp(np.outer(t, lam))
-        u = np.fft.irfft(evolved, n, axis=-1)
+        evolved[:, 1:] = spectrum[None, 1:] * np.exp(np.outer(t, self.rates(np.arange(1, spectrum.size))))
+        return np.fft.irfft(evolved, n, axis=-1)
+
+    def run(self, u0, duration, n_save=101, depth_limit=None):
+        """``u(x, t)`` (m) from ``u0`` over ``duration`` seconds of running, stopping where the
+        most worn spot has lost ``depth_limit`` (m), found by bisection on the exact solution."""
+        if not duration > 0:
+            raise ScenarioError("duration must be > 0 (s)")
+        t = np.linspace(0.0, duration, n_save)
+        u = self.evolve(u0, t)
+        stop = duration
+        if depth_limit is not None:
+            depth = np.max(np.asarray(u0)[None, :] - u, axis=1)
+            past = np.flatnonzero(depth >= depth_limit)
+            if past.size:
+                lo, hi = t[past[0] - 1], t[past[0]]
+                for _ in range(60):
+                    mid = 0.5 * (lo + hi)
+                    lo, hi = (mid, hi) if np.max(u0 - self.evolve(u0, mid)[0]) < depth_limit else (lo, mid)
+                stop = hi
+                t = np.append(t[: past[0]], stop)
+                u = np.vstack([u[: past[0]], self.evolve(u0, stop)])
+        n = u.shape[1]
+        orders = np.arange(1, n // 2 + 1)
+        lam = self.rates(orders)
         return xr.Dataset(
             {"u": (("time", "angle"), u, {"units": "m", "long_name": "radius deviation from the nominal radius"}),
              "growth_rate": (("order",), lam.real, {"units": "s-1", "long_name": "growth rate of the harmonic"}),
@@ -89,7 +108,7 @@ class Fourier:
                     "distance": ("time", t * self.speed / 1e3, {"units": "km", "long_name": "distance run"}),
                     "angle": ("angle", 2 * np.pi * np.arange(n) / n, {"units": "rad", "long_name": "angle round the wheel"}),
                     "order": ("order", orders, {"units": "1", "long_name": "polygon order"})},
-            attrs={"strategy": "Fourier technique for linear dynamics (Brommundt)"},
+            attrs={"strategy": "Fourier technique for linear dynamics (Brommundt)", "stop_seconds": stop},
         )
 
     @classmethod
@@ -119,6 +138,34 @@ class Fourier:
             raise ScenarioError(f"driver must be 'frictional_power' or 'normal_force', not {driver!r}")
         return cls(transfer, steady, depth_per_driver, omega, model.patch_half_length / model.radius,
                    model.speed)
+
+
+@dataclass(frozen=True)
+class FourierStrategy:
+    """The Fourier technique behind the strategy interface, in normed life time (one unit is
+    ``life_distance`` metres at the model's speed)."""
+
+    fourier: Fourier
+    life_distance: float
+    n_save: int = 101
+
+    def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
+        """Like :meth:`Phenomenological.run`; the solution is exact, so there is nothing to
+        checkpoint or resume and ``checkpoint`` and ``resume`` are not used."""
+        from railwear.longterm.phenomenological import describe
+
+        speed = self.fourier.speed
+        ds = self.fourier.run(u0, until * self.life_distance / speed, self.n_save, depth_limit)
+        seconds = ds.time.values
+        ds = ds.drop_vars(["time", "distance"]).assign_coords(
+            time=("time", seconds * speed / self.life_distance, {"units": "1", "long_name": "normed life time"}),
+            service_time=("time", seconds, {"units": "s", "long_name": "time in service"}))
+        ds = ds.rename({"growth_rate": "harmonic_growth_rate", "drift": "harmonic_drift"})
+        ds["stop_time"] = ((), float(ds.time[-1]), {"units": "1", "long_name": "normed time at which the run stopped"})
+        ds = ds.assign_coords(speed=((), speed, {"units": "m s-1", "long_name": "vehicle speed"}))
+        if progress is not None:
+            progress(1.0)
+        return describe(ds.drop_vars("order"))
 
 
 def stability_map(make_model, speeds, orders, law, band_width, driver="frictional_power"):

@@ -2,6 +2,8 @@
 
 import numpy as np
 
+from railwear.errors import ScenarioError
+
 from railwear.geometry import roundness
 from railwear.measured import read_measured
 from railwear.pde import Cubic, DiskContact, Table
@@ -43,3 +45,50 @@ def initial_state(scenario: Scenario):
         return roundness.harmonics(n, init.orders, np.array(init.amplitudes_um) * 1e-6, phases)
     angle, deviation = read_measured(init.file)
     return roundness.resample_measured(angle, deviation, n)
+
+
+def patch(scenario: Scenario):
+    """Hertz patch of the round wheel on the rail head at the static load."""
+    from railwear.contact import hertz_contact
+
+    w, c = scenario.wheel, scenario.contact
+    return hertz_contact(w.static_load_kN * 1e3, 1 / (2 * w.radius_m), 1 / (2 * c.rail_head_radius_m),
+                         c.youngs_modulus_GPa * 1e9, c.poisson)
+
+
+def disk_wheel_model(scenario: Scenario, speed):
+    """The disk wheel of ``[disk_wheel]`` at ``speed`` (m/s), with Hertz and Kalker constants."""
+    from railwear.dynamics import DiskWheelModel, contact_constants
+
+    w, c, d = scenario.wheel, scenario.contact, scenario.disk_wheel
+    load = w.static_load_kN * 1e3
+    constants = contact_constants(load, 1 / (2 * w.radius_m), 1 / (2 * c.rail_head_radius_m),
+                                  c.youngs_modulus_GPa * 1e9, c.poisson)
+    return DiskWheelModel(
+        speed=float(speed), radius=w.radius_m, wheel_mass=w.unsprung_mass_kg,
+        wheel_inertia=d.wheel_inertia_kg_m2, static_load=load,
+        hertz_constant=constants["hertz_constant"], primary_stiffness=d.primary_stiffness_N_m,
+        primary_damping=d.primary_damping_N_s_m, f11=constants["f11"],
+        sprung_mass=d.sprung_mass_kg, rail_mass=d.rail_mass_kg, pad_stiffness=d.pad_stiffness_N_m,
+        pad_damping=d.pad_damping_N_s_m, friction_coefficient=c.friction_coefficient,
+        traction_torque=c.traction_coefficient * load * w.radius_m,
+        patch_half_length=constants["patch_half_length"])
+
+
+def strategy(scenario: Scenario):
+    """The long-term strategy of the scenario, ready to ``run(u0, until, depth_limit, ...)``."""
+    from railwear.longterm.fourier import Fourier, FourierStrategy
+    from railwear.longterm.phenomenological import Phenomenological
+    from railwear.wear import EnergyLaw
+
+    solver, speeds = scenario.solver, scenario.operation.speeds
+    if scenario.strategy.kind == "phenomenological":
+        return Phenomenological(wear_rate(scenario), np.asarray(speeds, float), solver.epsilon, solver.nu,
+                                options={"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt})
+    if isinstance(speeds, list):
+        raise ScenarioError("operation: the Fourier strategy takes one speed; sweep over speeds instead")
+    wear = scenario.wear
+    band = wear.band_width_mm * 1e-3 if wear.band_width_mm else 2 * float(patch(scenario).b)
+    law = EnergyLaw(wear.specific_wear_ug_per_J * 1e-9, wear.density_kg_m3)
+    fourier = Fourier.disk_wheel(disk_wheel_model(scenario, speeds), law, band)
+    return FourierStrategy(fourier, scenario.operation.life_distance_km * 1e3, solver.n_save)

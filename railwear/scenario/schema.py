@@ -116,6 +116,28 @@ class Initial(_Section):
         return self
 
 
+class Strategy(_Section):
+    """The long-term strategy: the evolution equation (paper eq. 4) or the Fourier technique."""
+
+    kind: Literal["phenomenological", "fourier"] = "phenomenological"
+
+
+class DiskWheel(_Section):
+    """Vertical and rotational dynamics of the disk wheel (paper Fig. 5), for the Fourier strategy.
+
+    The wheel mass is ``wheel.unsprung_mass_kg``; radius, load, contact and traction come from
+    ``[wheel]`` and ``[contact]``. A rail mass on pads gives the P2 resonance.
+    """
+
+    wheel_inertia_kg_m2: Positive = 80.0
+    primary_stiffness_N_m: NonNegative = 1.2e6
+    primary_damping_N_s_m: NonNegative = 2e4
+    sprung_mass_kg: Positive | None = None
+    rail_mass_kg: Positive | None = 150.0
+    pad_stiffness_N_m: Positive = 1e8
+    pad_damping_N_s_m: NonNegative = 6e4
+
+
 class Service(_Section):
     """Scatter of the service conditions, for forecasts: speed peaks with weights, load, friction."""
 
@@ -153,3 +175,5 @@ class Scenario(_Section):
     solver: Solver = Solver()
     initial: Initial = Initial()
     service: Service = Service()
+    strategy: Strategy = Strategy()
+    disk_wheel: DiskWheel = DiskWheel()
