@@ -144,11 +144,16 @@ def stability(
     scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name")] = None,
     speeds: Annotated[str, typer.Option(help="speeds in km/h, A:B:STEP or v1,v2,...")] = "20:300:10",
     orders: Annotated[str, typer.Option(help="polygon orders, A:B:STEP or list")] = "1:30:1",
-    amplitude_um: Annotated[Optional[float], typer.Option(help="crest amplitude (µm); default the scenario's initial rms, 0 for the round wheel")] = None,
+    amplitude_um: Annotated[Optional[float], typer.Option(help="crest amplitude (µm) for the evolution equation; default the scenario's initial rms, 0 for the round wheel")] = None,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-out"),
 ):
-    """Growth rate over speed x polygon order: DIR/stability.nc and stability.png."""
+    """Growth rate over speed x polygon order: DIR/stability.nc and stability.png.
+
+    From the evolution equation's dispersion relation, or, for a scenario with the Fourier
+    strategy, from the disk wheel's transfer functions (per km run).
+    """
     from railwear import api, plots, results
+    from railwear.longterm import fourier
     from railwear.pde import stability_map
     from railwear.scenario import build, scenario_hash
 
@@ -158,21 +163,27 @@ def stability(
         _fail("--speeds must be > 0 and --orders >= 1", 2)
     try:
         sc = api.load_scenario(scenario)
-        amplitude = (sc.initial.rms_um if amplitude_um is None else amplitude_um) * 1e-6
-        if amplitude < 0:
-            raise ScenarioError("--amplitude-um must be >= 0")
-        ds = stability_map(build.wear_rate(sc), v / 3.6, n, sc.solver.epsilon, sc.solver.nu, amplitude)
+        if sc.strategy.kind == "fourier":
+            ds = fourier.stability_map(lambda speed: build.disk_wheel_model(sc, speed), v / 3.6,
+                                       n.astype(int), build.wear_law(sc), build.band_width(sc))
+            label = "disk-wheel dynamics (Fourier technique)"
+        else:
+            amplitude = (sc.initial.rms_um if amplitude_um is None else amplitude_um) * 1e-6
+            if amplitude < 0:
+                raise ScenarioError("--amplitude-um must be >= 0")
+            ds = stability_map(build.wear_rate(sc), v / 3.6, n, sc.solver.epsilon, sc.solver.nu, amplitude)
+            label = f"evolution equation, crest amplitude {amplitude * 1e6:g} µm"
     except ScenarioError as e:
         _fail(str(e), 2)
-    ds.attrs.update(scenario_name=sc.name, scenario_hash=scenario_hash(sc))
+    ds.attrs.update(scenario_name=sc.name, scenario_hash=scenario_hash(sc), source=label)
     results.write_netcdf(ds, output / "stability.nc")
     plots.save(plots.stability(ds), output / "stability.png")
     unstable = ds.growth_rate.max("order") > 0
     if bool(unstable.any()):
         first = float(ds.speed.values[unstable.values.argmax()]) * 3.6
-        typer.echo(f"growth from {first:g} km/h (crest amplitude {amplitude * 1e6:g} µm)")
+        typer.echo(f"growth from {first:g} km/h ({label})")
     else:
-        typer.echo(f"no order grows in {v.min():g}-{v.max():g} km/h (crest amplitude {amplitude * 1e6:g} µm)")
+        typer.echo(f"no order grows in {v.min():g}-{v.max():g} km/h ({label})")
     typer.echo(f"wrote {output / 'stability.nc'}")
 
 

@@ -79,7 +79,6 @@ def strategy(scenario: Scenario):
     """The long-term strategy of the scenario, ready to ``run(u0, until, depth_limit, ...)``."""
     from railwear.longterm.fourier import Fourier, FourierStrategy
     from railwear.longterm.phenomenological import Phenomenological
-    from railwear.wear import EnergyLaw
 
     solver, speeds = scenario.solver, scenario.operation.speeds
     if scenario.strategy.kind == "phenomenological":
@@ -87,8 +86,18 @@ def strategy(scenario: Scenario):
                                 options={"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt})
     if isinstance(speeds, list):
         raise ScenarioError("operation: the Fourier strategy takes one speed; sweep over speeds instead")
-    wear = scenario.wear
-    band = wear.band_width_mm * 1e-3 if wear.band_width_mm else 2 * float(patch(scenario).b)
-    law = EnergyLaw(wear.specific_wear_ug_per_J * 1e-9, wear.density_kg_m3)
-    fourier = Fourier.disk_wheel(disk_wheel_model(scenario, speeds), law, band)
+    fourier = Fourier.disk_wheel(disk_wheel_model(scenario, speeds), wear_law(scenario), band_width(scenario))
     return FourierStrategy(fourier, scenario.operation.life_distance_km * 1e3, solver.n_save)
+
+
+def wear_law(scenario: Scenario):
+    """The energy wear law of ``[wear]``."""
+    from railwear.wear import EnergyLaw
+
+    return EnergyLaw(scenario.wear.specific_wear_ug_per_J * 1e-9, scenario.wear.density_kg_m3)
+
+
+def band_width(scenario: Scenario):
+    """Lateral width the tread wear spreads over (m): ``wear.band_width_mm``, else the Hertz ``2b``."""
+    width = scenario.wear.band_width_mm
+    return width * 1e-3 if width else 2 * float(patch(scenario).b)
