@@ -32,6 +32,23 @@ def _parse_range(text, field):
         _fail(f"{field}: expected A:B:STEP with STEP > 0 and B >= A, or a list v1,v2,...; got {text!r}", 2)
 
 
+class _Warnings:
+    """Warnings of a run as one line each on standard error, after it."""
+
+    def __enter__(self):
+        import warnings
+
+        self.context = warnings.catch_warnings(record=True)
+        self.caught = self.context.__enter__()
+        warnings.simplefilter("always")
+        return self
+
+    def __exit__(self, *exc):
+        self.context.__exit__(*exc)
+        for w in self.caught:
+            typer.echo(f"railwear: warning: {w.message}", err=True)
+
+
 class _Progress:
     """A rich progress bar on a terminal, a log line every 10 % otherwise."""
 
@@ -66,7 +83,7 @@ def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None
     try:
         sc = None if scenario is None and resume_path is not None else api.load_scenario(scenario)
         label = f"railwear {sc.name if sc else 'resume'}"
-        with _Progress(label) as progress:
+        with _Warnings(), _Progress(label) as progress:
             ds = api.run(sc, progress=progress, checkpoint_path=checkpoint,
                          checkpoint_every=checkpoint_every, resume_path=resume_path)
     except ScenarioError as e:
@@ -221,7 +238,7 @@ def sweep(
             if workers < 1:
                 _fail("--workers must be at least 1", 2)
             executor = sweeps.LocalExecutor(workers)
-        with _Progress(f"railwear sweep {base.name}") as progress:
+        with _Warnings(), _Progress(f"railwear sweep {base.name}") as progress:
             ds = sweeps.run_sweep(base, varies, output, samples, seed, executor, progress,
                                   batch="auto" if batch else False)
         if executor is not None:
@@ -291,7 +308,7 @@ def forecast(
             raise ScenarioError("--horizon-km must be > 0")
         horizon = None if horizon_km is None else horizon_km / sc.operation.life_distance_km
         angle, deviation = read_measured(measured, angle_unit, deviation_unit, field=str(measured))
-        with _Progress("railwear forecast") as progress:
+        with _Warnings(), _Progress("railwear forecast") as progress:
             ds = forecasts.forecast(sc, angle, deviation, limit_m, horizon, progress=progress)
     except ScenarioError as e:
         _fail(str(e), 2)

@@ -26,3 +26,7 @@ class NumericalInstabilityError(RailwearError, ArithmeticError):
 
 class IllPosedError(NumericalInstabilityError):
     """Growth at the grid scale: the equation is ill-posed or under-resolved."""
+
+
+class ResolutionWarning(UserWarning):
+    """The top of the kept spectrum grew: the grid may not resolve the solution."""

@@ -28,6 +28,7 @@ POINT_SCALARS = {
     "peak_to_peak": ("m", "peak-to-peak deviation at the end"),
     "peak_to_peak_initial": ("m", "peak-to-peak deviation at the start"),
     "stop_time": ("1", "normed time at which the run stopped"),
+    "spectral_tail": ("1", "top quarter of the kept orders over the largest amplitude (resolution)"),
 }
 
 
@@ -330,7 +331,8 @@ def combine(coords, keys, done, errors, random_design):
     some = next(iter(done.values()), None)
     data = {}
     for name, (units, long_name) in POINT_SCALARS.items():
-        data[name] = (dims, np.array([float(done[k][name]) if k in done else np.nan for k in keys]).reshape(shape),
+        data[name] = (dims, np.array([float(done[k][name]) if k in done and name in done[k] else np.nan
+                                      for k in keys]).reshape(shape),
                       {"units": units, "long_name": long_name})
     data["regime"] = (dims, np.array([str(done[k].regime.values) if k in done else "failed" for k in keys],
                                      dtype=object).reshape(shape).astype(str),

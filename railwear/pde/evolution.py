@@ -11,12 +11,13 @@ limit the step.
 
 import hashlib
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
 
-from railwear.errors import IllPosedError, NumericalInstabilityError, ScenarioError
+from railwear.errors import IllPosedError, NumericalInstabilityError, ResolutionWarning, ScenarioError
 from railwear.pde import etdrk4
 from railwear.pde.forms import BuiltinRate, as_wear_rate
 from railwear.pde.linear import dispersion
@@ -115,6 +116,7 @@ class EvolutionCheckpoint:
     stop_time: np.ndarray
     saved: np.ndarray
     times: np.ndarray
+    tail_peak: np.ndarray
 
 
 def _fingerprint(u_start, speeds, form, *parameters):
@@ -205,7 +207,7 @@ class _Problem:
 def solve_evolution(
     u0, t_end, h, speed=0.0, epsilon=0.0, nu=0.0, *, dt=None, n_save=101, dealias=True,
     stabilisation=None, depth_limit=None, tail_tolerance=1e-3, max_halvings=6, progress=None,
-    checkpoint=None, resume=None,
+    checkpoint=None, resume=None, resolution_tolerance=3e-5,
 ):
     """Solve the evolution equation from ``u0`` (m) over normed time ``[0, t_end]``.
 
@@ -232,6 +234,10 @@ def solve_evolution(
     tail_tolerance : float
         The top quarter of the kept orders may grow to this fraction of the largest amplitude
         (and beyond 1000 times its start) before the run is declared ill-posed.
+    resolution_tolerance : float
+        Where the top quarter of the kept orders reaches this fraction of the largest amplitude
+        (and ten times its start) the run warns (:class:`~railwear.errors.ResolutionWarning`)
+        that the grid may not resolve it; the largest fraction met is ``spectral_tail``.
     progress : callable, optional
         Called with the fraction of ``t_end`` done after each output interval.
     checkpoint : callable, optional
@@ -277,6 +283,7 @@ def solve_evolution(
 
     tail_start, amp_start = problem.tail(v)
     tail_ref = np.maximum(tail_start, tail_tolerance * amp_start)
+    tail_peak = tail_start / np.maximum(amp_start, 1e-300)
     blowup = 1e6 * max(float(np.max(np.abs(v))), 1e-300)
     depth = float(depth_limit) if depth_limit is not None else 0.0
     fingerprint = _fingerprint(u_start, speeds, form, t_end, epsilon, nu, dt, n_save, dealias,
@@ -291,6 +298,7 @@ def solve_evolution(
         j, steps, halvings = resume.intervals, resume.steps.copy(), resume.halvings
         v, active, stop_time = resume.spectra.copy(), resume.active.copy(), resume.stop_time.copy()
         saved, times = list(resume.saved), list(resume.times)
+        tail_peak = resume.tail_peak.copy()
         problem.set_stabilisation(v, resume.stabilisation)
     coefficients = etdrk4.etdrk4_coefficients(problem.L, interval / steps)
     while j < n_save - 1:
@@ -312,6 +320,7 @@ def solve_evolution(
             continue
         tail, amp = problem.tail(v)
         bad = (tail > tail_tolerance * amp) & (tail > TAIL_GROWTH * np.maximum(tail_ref, 1e-300))
+        tail_peak = np.maximum(tail_peak, tail / np.maximum(amp, 1e-300))
         if np.any(bad):
             raise IllPosedError(
                 f"growth at the grid scale near T = {t0 + interval:.4g}: the equation is ill-posed "
@@ -327,7 +336,7 @@ def solve_evolution(
         if checkpoint is not None:
             checkpoint(EvolutionCheckpoint(fingerprint, j, steps.copy(), halvings, problem.S.copy(),
                                            v.copy(), active.copy(), stop_time.copy(),
-                                           np.array(saved), np.array(times)))
+                                           np.array(saved), np.array(times), tail_peak.copy()))
         if progress is not None:
             progress(j / (n_save - 1))
     if progress is not None:
@@ -336,8 +345,19 @@ def solve_evolution(
     u = np.fft.irfft(np.array(saved), n, axis=-1)
     angle = 2 * np.pi * np.arange(n) / n
     stop = np.where(np.isnan(stop_time), times[-1], stop_time)
-    return _dataset(u, np.array(times), angle, speeds, batch_dim, stop, problem, forms[0],
-                    interval / steps, dealias, depth_limit)
+    start_ratio = tail_start / np.maximum(amp_start, 1e-300)
+    coarse = (tail_peak > resolution_tolerance) & (tail_peak > 10 * start_ratio)
+    if np.any(coarse):
+        warnings.warn(
+            f"the top quarter of the kept orders reached {tail_peak.max():.2g} of the largest "
+            f"amplitude: {n} points may not resolve this run; compare with {2 * n}",
+            ResolutionWarning, stacklevel=2)
+    ds = _dataset(u, np.array(times), angle, speeds, batch_dim, stop, problem, forms[0],
+                  interval / steps, dealias, depth_limit)
+    ds["spectral_tail"] = ((batch_dim,) if batch_dim else (), tail_peak if batch_dim else tail_peak[0],
+                           {"units": "1", "long_name": "largest amplitude in the top quarter of the kept orders over the largest amplitude"})
+    ds.attrs["resolution_tolerance"] = resolution_tolerance
+    return ds
 
 
 def _dataset(u, times, angle, speeds, batch_dim, stop, problem, form, dt, dealias, depth_limit):
