@@ -322,6 +322,34 @@ def forecast(
     typer.echo(f"wrote {output / 'forecast.nc'}")
 
 
+@app.command("hunting-map")
+def hunting_map(
+    scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name ([wheelset], [wheel], [contact])")] = None,
+    conicity: Annotated[str, typer.Option(help="conicities, A:B:STEP or list")] = "0.02:0.4:0.02",
+    yaw_stiffness: Annotated[str, typer.Option(help="yaw stiffnesses in N m/rad, A:B:STEP or list")] = "1e5:2e7:5e5",
+    output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-out"),
+):
+    """Hunting critical speed of the wheelset over conicity x yaw stiffness: DIR/hunting.nc, hunting.png."""
+    import numpy as np
+
+    from railwear import api, plots, results
+    from railwear import sweep as sweeps
+
+    lam = _parse_range(conicity, "--conicity")
+    kpsi = _parse_range(yaw_stiffness, "--yaw-stiffness")
+    try:
+        ds = sweeps.hunting_map(api.load_scenario(scenario), lam, kpsi)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    results.write_netcdf(ds, output / "hunting.nc")
+    plots.save(plots.hunting(ds), output / "hunting.png")
+    v = ds.critical_speed.values
+    low = np.unravel_index(np.argmin(v), v.shape)
+    typer.echo(f"lowest critical speed {v[low]:.0f} km/h at conicity {lam[low[0]]:g}, "
+               f"yaw stiffness {kpsi[low[1]]:g} N m/rad; stable at every speed at {np.isinf(v).sum()} of {v.size} points")
+    typer.echo(f"wrote {output / 'hunting.nc'}")
+
+
 @app.command()
 def scenarios():
     """List the built-in scenarios."""

@@ -166,3 +166,18 @@ def forecast(ds):
     hist.set(xlabel="distance at the limit (km)", ylabel="samples",
              title=f"{crossed.size} of {ds.sizes['sample']} samples reach the limit")
     return fig
+
+
+def hunting(map_ds):
+    """Linear critical speed over conicity and yaw stiffness, as a filled contour map."""
+    fig, (ax,) = _figure(7, 4.5)
+    speed = map_ds.critical_speed.transpose("yaw_stiffness", "conicity").values
+    finite = np.where(np.isfinite(speed), speed, np.nan)
+    levels = np.linspace(np.nanmin(finite), min(np.nanmax(finite), 3 * np.nanmin(finite) + 500), 15) \
+        if np.isfinite(finite).any() else 10
+    mesh = ax.contourf(map_ds.conicity.values, map_ds.yaw_stiffness.values / 1e6, finite, levels=levels,
+                       cmap="viridis", extend="max")
+    fig.colorbar(mesh, ax=ax, label="critical speed (km/h)")
+    ax.set(xlabel="equivalent conicity", ylabel="yaw stiffness (MN m/rad)",
+           title="linear critical speed of hunting (blank: stable at every speed)")
+    return fig

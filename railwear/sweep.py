@@ -352,3 +352,34 @@ def combine(coords, keys, done, errors, random_design):
         coord_vars[f] = (("sample",) if random_design else (f,), np.asarray(values),
                          {"long_name": f"scenario field {f}"})
     return xr.Dataset(data, coords=coord_vars)
+
+
+def hunting_map(scenario: Scenario, conicity, yaw_stiffness, lateral_stiffness=None):
+    """Linear critical speed (km/h, ``inf`` where stable at every speed) of the scenario's
+    wheelset over conicity × yaw stiffness (N m/rad) [× lateral stiffness (N/m)].
+
+    The closed form of :func:`railwear.dynamics.linear_critical_speed` (Kalker creep without spin,
+    conical wheels), with ``f11`` and ``f22`` per wheel from the Hertz patch at the wheel load.
+    """
+    from railwear.dynamics import contact_constants, linear_critical_speed
+
+    w, c, ws = scenario.wheel, scenario.contact, scenario.wheelset
+    constants = contact_constants(w.static_load_kN * 1e3, 1 / (2 * w.radius_m), 1 / (2 * c.rail_head_radius_m),
+                                  c.youngs_modulus_GPa * 1e9, c.poisson)
+    conicity = np.atleast_1d(np.asarray(conicity, float))
+    yaw = np.atleast_1d(np.asarray(yaw_stiffness, float))
+    lateral = np.atleast_1d(np.asarray(ws.lateral_stiffness_N_m if lateral_stiffness is None else lateral_stiffness, float))
+    if np.any(conicity <= 0) or np.any(yaw < 0) or np.any(lateral < 0):
+        raise ScenarioError("conicity must be > 0 and the stiffnesses >= 0")
+    speed = np.array([[[linear_critical_speed(ws.mass_kg, ws.yaw_inertia_kg_m2, ky, kpsi, constants["f11"],
+                                              constants["f22"], ws.half_gauge_m, w.radius_m, lam) * 3.6
+                        for ky in lateral] for kpsi in yaw] for lam in conicity])
+    ds = xr.Dataset(
+        {"critical_speed": (("conicity", "yaw_stiffness", "lateral_stiffness"), speed,
+                            {"units": "km h-1", "long_name": "linear critical speed of hunting (inf: stable at every speed)"})},
+        coords={"conicity": ("conicity", conicity, {"units": "1", "long_name": "equivalent conicity"}),
+                "yaw_stiffness": ("yaw_stiffness", yaw, {"units": "N m rad-1", "long_name": "yaw stiffness of the suspension"}),
+                "lateral_stiffness": ("lateral_stiffness", lateral, {"units": "N m-1", "long_name": "lateral stiffness of the suspension"})},
+        attrs={"f11": constants["f11"], "f22": constants["f22"], "method": "closed form (Routh-Hurwitz)"},
+    )
+    return ds.squeeze("lateral_stiffness") if lateral.size == 1 else ds

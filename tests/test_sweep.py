@@ -122,3 +122,28 @@ def test_cli_sweep(tmp_path):
     assert "smoothing" in r.output
     r = CliRunner().invoke(app, ["sweep", "smoothing", "--vary", "wheel.nothing=1,2", "-o", str(tmp_path)])
     assert r.exit_code == 2 and "no such scenario field" in r.output
+
+
+def test_hunting_map_is_the_closed_form_and_the_eigenvalue_crossing(tmp_path):
+    from railwear.dynamics import WheelsetModel, critical_speed, linear_critical_speed
+
+    sc = load_scenario("polygonalisation")
+    lam, kpsi = np.array([0.05, 0.2]), np.array([1e6, 8e6])
+    m = sweep.hunting_map(sc, lam, kpsi)
+    ws = sc.wheelset
+    f11, f22 = m.attrs["f11"], m.attrs["f22"]
+    for i, c in enumerate(lam):
+        for j, k in enumerate(kpsi):
+            closed = linear_critical_speed(ws.mass_kg, ws.yaw_inertia_kg_m2, ws.lateral_stiffness_N_m, k,
+                                           f11, f22, ws.half_gauge_m, sc.wheel.radius_m, c)
+            assert float(m.critical_speed[i, j]) == pytest.approx(closed * 3.6, rel=1e-14)
+    model = WheelsetModel(mass=ws.mass_kg, yaw_inertia=ws.yaw_inertia_kg_m2,
+                          lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=1e6, f11=f11, f22=f22,
+                          half_gauge=ws.half_gauge_m, rolling_radius=sc.wheel.radius_m, conicity=0.2, speed=30.0)
+    assert float(m.critical_speed[1, 0]) == pytest.approx(critical_speed(model) * 3.6, rel=1e-8)
+    # a stiffer conicity lowers the critical speed
+    assert float(m.critical_speed[1, 0]) < float(m.critical_speed[0, 0])
+    r = CliRunner().invoke(app, ["hunting-map", "--conicity", "0.05:0.3:0.05", "--yaw-stiffness",
+                                 "1e6,4e6", "-o", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "hunting.png").exists() and "lowest critical speed" in r.output

@@ -138,6 +138,22 @@ class DiskWheel(_Section):
     pad_damping_N_s_m: NonNegative = 6e4
 
 
+class Wheelset(_Section):
+    """A suspended wheelset on straight track, for hunting (critical-speed) maps.
+
+    The rolling radius is ``wheel.radius_m``; Kalker's coefficients come from the Hertz patch of
+    ``[contact]`` at the wheel load. Defaults: the Cooperrider wheelset (mass, yaw inertia, half
+    gauge) on stiff primary springs.
+    """
+
+    mass_kg: Positive = 1022.0
+    yaw_inertia_kg_m2: Positive = 678.0
+    lateral_stiffness_N_m: NonNegative = 1.823e6
+    yaw_stiffness_N_m_rad: NonNegative = 3.646e6
+    half_gauge_m: Positive = 0.7163
+    conicity: Positive = 0.05
+
+
 class Service(_Section):
     """Scatter of the service conditions, for forecasts: speed peaks with weights, load, friction."""
 
@@ -177,3 +193,4 @@ class Scenario(_Section):
     service: Service = Service()
     strategy: Strategy = Strategy()
     disk_wheel: DiskWheel = DiskWheel()
+    wheelset: Wheelset = Wheelset()
