@@ -21,13 +21,15 @@ import numpy as np
 
 from railwear.errors import NumericalInstabilityError, ScenarioError
 
-__all__ = ["GGLProblem", "GGLSolution", "solve_ggl", "planar_pendulum", "wheelset_ggl_problem"]
+__all__ = ["GGLProblem", "GGLSolution", "disk_wheel_ggl_problem", "planar_pendulum", "solve_ggl", "wheelset_ggl_problem"]
 
 
 @dataclass(frozen=True)
 class GGLProblem:
-    """A constrained system: ``mass(q)`` (n x n), ``force(t, q, v)`` (n), ``constraint(q)`` (m),
-    ``constraint_jacobian(q)`` (m x n). Callables take and return NumPy arrays, SI units."""
+    """A constrained system: ``mass(q)`` (n x n), ``force(t, q, v)`` (n), ``constraint(t, q)``
+    (m), ``constraint_jacobian(t, q)`` (m x n, ``G = dg/dq``) and, for constraints that move
+    with time (a rotating out-of-round wheel), ``constraint_rate(t, q)`` = ``dg/dt`` (m; ``None``:
+    zero). Callables take and return NumPy arrays, SI units."""
 
     n_coordinates: int
     n_constraints: int
@@ -35,35 +37,44 @@ class GGLProblem:
     force: object
     constraint: object
     constraint_jacobian: object
+    constraint_rate: object = None
+
+    def _rate(self, t, q):
+        return np.zeros(self.n_constraints) if self.constraint_rate is None else self.constraint_rate(t, q)
 
     def residual(self, t, y, yp, res):
         """GGL residual for ``y = [q, v, lam, mu]`` (IDA's ``resfn``)."""
         n, m = self.n_coordinates, self.n_constraints
         q, v, lam, mu = y[:n], y[n:2 * n], y[2 * n:2 * n + m], y[2 * n + m:]
-        jac = self.constraint_jacobian(q)
+        jac = self.constraint_jacobian(t, q)
         res[:n] = yp[:n] - v + jac.T @ mu
         res[n:2 * n] = self.mass(q) @ yp[n:2 * n] - self.force(t, q, v) + jac.T @ lam
-        res[2 * n:2 * n + m] = self.constraint(q)
-        res[2 * n + m:] = jac @ v
+        res[2 * n:2 * n + m] = self.constraint(t, q)
+        res[2 * n + m:] = jac @ v + self._rate(t, q)
 
     def consistent_start(self, t0, q0, v0):
         """``(y0, yp0)`` with the multiplier ``lam`` from the acceleration-level constraint
-        ``G a + (dG/dt) v = 0`` and ``mu = 0``; ``q0, v0`` must satisfy both constraints."""
+        ``G a + d/dt(G) v + d/dt(g_t) = 0`` (the total derivatives along the motion by central
+        differences) and ``mu = 0``; ``q0, v0`` must satisfy both constraints."""
         n, m = self.n_coordinates, self.n_constraints
         q0, v0 = np.asarray(q0, dtype=float), np.asarray(v0, dtype=float)
         scale = max(1.0, float(np.max(np.abs(q0))))
-        if np.max(np.abs(self.constraint(q0))) > 1e-10 * scale:
+        if np.max(np.abs(self.constraint(t0, q0))) > 1e-10 * scale:
             raise ScenarioError("initial_state: the positions violate the constraints g(q) = 0")
-        jac = self.constraint_jacobian(q0)
-        if np.max(np.abs(jac @ v0)) > 1e-10 * max(1.0, float(np.max(np.abs(v0)))):
-            raise ScenarioError("initial_state: the velocities violate the constraints G(q) v = 0")
-        h = 1e-6 * scale
-        jac_dot_v = (self.constraint_jacobian(q0 + h * v0) - self.constraint_jacobian(q0 - h * v0)) / (2 * h) @ v0
+        jac = self.constraint_jacobian(t0, q0)
+
+        def velocity_constraint(t, q):
+            return self.constraint_jacobian(t, q) @ v0 + self._rate(t, q)
+
+        if np.max(np.abs(velocity_constraint(t0, q0))) > 1e-10 * max(1.0, float(np.max(np.abs(v0)))):
+            raise ScenarioError("initial_state: the velocities violate the constraints G(q) v + g_t = 0")
+        h = 1e-6
+        drift = (velocity_constraint(t0 + h, q0 + h * v0) - velocity_constraint(t0 - h, q0 - h * v0)) / (2 * h)
         system = np.zeros((n + m, n + m))
         system[:n, :n] = self.mass(q0)
         system[:n, n:] = jac.T
         system[n:, :n] = jac
-        rhs = np.concatenate([self.force(t0, q0, v0), -jac_dot_v])
+        rhs = np.concatenate([self.force(t0, q0, v0), -drift])
         sol = np.linalg.solve(system, rhs)
         y0 = np.concatenate([q0, v0, sol[n:], np.zeros(m)])
         yp0 = np.concatenate([v0, sol[:n], np.zeros(2 * m)])
@@ -104,7 +115,7 @@ def solve_ggl(problem, t_eval, q0, v0, rtol=1e-8, atol=1e-10, multiplier_atol=1e
     if not result.success or result.y.shape[0] != t_eval.size:
         raise NumericalInstabilityError(f"IDA failed: {result.message}")
     y = result.y
-    drift = max(float(np.max(np.abs(problem.constraint(row[:n])))) for row in y)
+    drift = max(float(np.max(np.abs(problem.constraint(t, row[:n])))) for t, row in zip(result.t, y))
     return GGLSolution(result.t, y[:, :n], y[:, n:2 * n], y[:, 2 * n:2 * n + m], y[:, 2 * n + m:], drift)
 
 
@@ -118,8 +129,8 @@ def planar_pendulum(mass=1.0, length=1.0, gravity=9.81) -> GGLProblem:
         n_constraints=1,
         mass=lambda q: mass_matrix,
         force=lambda t, q, v: weight,
-        constraint=lambda q: np.array([0.5 * (q[0] ** 2 + q[1] ** 2 - length**2)]),
-        constraint_jacobian=lambda q: q.reshape(1, 2),
+        constraint=lambda t, q: np.array([0.5 * (q[0] ** 2 + q[1] ** 2 - length**2)]),
+        constraint_jacobian=lambda t, q: q.reshape(1, 2),
     )
 
 
@@ -154,6 +165,73 @@ def wheelset_ggl_problem(model, roll_inertia, gravity=9.81) -> GGLProblem:
         n_constraints=2,
         mass=lambda q: mass_matrix,
         force=force,
-        constraint=lambda q: jac @ q,
-        constraint_jacobian=lambda q: jac,
+        constraint=lambda t, q: jac @ q,
+        constraint_jacobian=lambda t, q: jac,
     )
+
+
+def disk_wheel_ggl_problem(model):
+    """The disk wheel of ``model`` (a ``DiskWheelModel``) with rigid contact: the wheel follows
+    the rail and the filtered radius deviation, ``g(t, q) = z_w - z_r - u_bar(x0 + V t / R0)``.
+
+    Coordinates ``q = [z_w, (z_s), (z_r)]`` (the sprung mass and the rail mass where the model
+    has them); the wheel turns at ``V / R0`` (no rotational dynamics and no creep in this form).
+    The normal force is ``N = W - lam``. Needs a patch (``patch_half_length > 0``) so that
+    ``u_bar`` is smooth enough for the index-2 form. Returns ``(problem, q0, v0)`` at rest in
+    static equilibrium (the wheel on the deviation under it).
+    """
+    from railwear.dynamics import kernels as k
+
+    if not model.patch_half_length > 0.0:
+        raise ScenarioError("patch_half_length: the DAE form needs a finite contact patch (a smooth u_bar)")
+    surf, n_cells = model.surface(), model.n_cells()
+    half = model.patch_half_length / model.radius
+    rate = model.speed / model.radius
+    x0 = model.initial_angle
+    sprung = model.sprung_mass is not None
+    rail = model.rail_mass is not None
+    n = 1 + sprung + rail
+    i_s, i_r = (1 if sprung else None), (n - 1 if rail else None)
+    masses = [model.wheel_mass] + ([model.sprung_mass] if sprung else []) + ([model.rail_mass] if rail else [])
+    mass_matrix = np.diag(masses)
+    jac = np.zeros((1, n))
+    jac[0, 0] = 1.0
+    if rail:
+        jac[0, i_r] = -1.0
+
+    def u_bar(t):
+        return k.patch_average(surf, n_cells, x0 + rate * t, half)
+
+    def u_bar_slope(t):
+        x = x0 + rate * t
+        return (k.surface_value(surf, n_cells, x + half) - k.surface_value(surf, n_cells, x - half)) / (2.0 * half)
+
+    def force(t, q, v):
+        f = np.zeros(n)
+        z_s, v_s = (q[i_s], v[i_s]) if sprung else (0.0, 0.0)
+        primary = model.primary_stiffness * (q[0] - z_s) + model.primary_damping * (v[0] - v_s)
+        f[0] = -primary
+        if sprung:
+            f[i_s] = primary
+        if rail:
+            f[i_r] = -model.pad_stiffness * q[i_r] - model.pad_damping * v[i_r]
+        return f
+
+    problem = GGLProblem(
+        n_coordinates=n,
+        n_constraints=1,
+        mass=lambda q: mass_matrix,
+        force=force,
+        constraint=lambda t, q: jac @ q - u_bar(t),
+        constraint_jacobian=lambda t, q: jac,
+        constraint_rate=lambda t, q: np.array([-rate * u_bar_slope(t)]),
+    )
+    q0 = np.zeros(n)
+    q0[0] = u_bar(0.0)
+    if sprung:
+        q0[i_s] = q0[0]  # the primary spring at its static length
+    v0 = np.zeros(n)
+    v0[0] = rate * u_bar_slope(0.0)
+    if sprung:
+        v0[i_s] = 0.0
+    return problem, q0, v0

@@ -81,3 +81,37 @@ def test_wheelset_dae_matches_the_minimal_ode():
     assert np.max(np.abs(dae.q[:, 0] - plain.lateral_displacement.values)) > 1e-5
     # the normal forces (minus the multipliers) carry the weight; their difference moves the roll
     np.testing.assert_allclose(-dae.lam.sum(axis=1), model.mass * 9.81, rtol=1e-6)
+
+
+def test_rigid_disk_wheel_dae_gives_mass_times_the_second_derivative_of_u_bar():
+    """Disk wheel with rigid contact in GGL form: the free wheel must follow u_bar(t), so
+    N - W = m d2(u_bar)/dt2 = m (V/R0)^2 (s(x + w) - s(x - w)) / (2 w), with s the slope of the
+    piecewise-linear u in the cell under x +- w (a staircase: rigid contact feels the second
+    derivative of the surface, paper section 2). Samples on the jumps of the staircase are
+    ambiguous, so the check is on nearly all samples."""
+    from railwear.dynamics import DiskWheelModel
+    from railwear.dynamics.dae import disk_wheel_ggl_problem
+
+    n_cells, order, amplitude = 512, 5, 1e-6
+    cells = 2 * np.pi * np.arange(n_cells) / n_cells
+    u = amplitude * np.cos(order * cells)
+    model = DiskWheelModel(speed=30.0, radius=0.46, wheel_mass=600.0, wheel_inertia=60.0, static_load=70e3,
+                           hertz_constant=1.05e11, primary_stiffness=0.0, f11=1.15e7, patch_half_length=6e-3,
+                           radius_deviation=u)
+    problem, q0, v0 = disk_wheel_ggl_problem(model)
+    t_eval = np.linspace(0.0, 0.05, 501)
+    sol = solve_ggl(problem, t_eval, q0, v0, rtol=1e-8, atol=1e-14)
+    assert sol.constraint_drift < 1e-12  # metres, against an amplitude of 1e-6
+    rate, w, dx = model.speed / model.radius, model.patch_half_length / model.radius, 2 * np.pi / n_cells
+
+    def slope(x):
+        j = np.floor(np.mod(x, 2 * np.pi) / dx).astype(int) % n_cells
+        return (u[(j + 1) % n_cells] - u[j]) / dx
+
+    x = rate * t_eval
+    expected = model.static_load + model.wheel_mass * rate**2 * (slope(x + w) - slope(x - w)) / (2 * w)
+    normal = model.static_load - sol.lam[:, 0]
+    scale = model.wheel_mass * (order * rate) ** 2 * amplitude
+    error = np.abs(normal - expected) / scale
+    assert np.median(error) < 1e-9
+    assert np.mean(error < 1e-6) > 0.98
