@@ -21,7 +21,7 @@ import numpy as np
 
 from railwear.errors import NumericalInstabilityError, ScenarioError
 
-__all__ = ["GGLProblem", "GGLSolution", "disk_wheel_ggl_problem", "planar_pendulum", "solve_ggl", "wheelset_ggl_problem"]
+__all__ = ["GGLProblem", "GGLSolution", "bogie_ggl_problem", "disk_wheel_ggl_problem", "planar_pendulum", "solve_ggl", "wheelset_ggl_problem"]
 
 
 @dataclass(frozen=True)
@@ -134,6 +134,18 @@ def planar_pendulum(mass=1.0, length=1.0, gravity=9.81) -> GGLProblem:
     )
 
 
+def _fixed_linear_constraints(mass_matrix, force, jac) -> GGLProblem:
+    """A problem with a constant mass matrix and constant linear constraints ``jac @ q = 0``."""
+    return GGLProblem(
+        n_coordinates=jac.shape[1],
+        n_constraints=jac.shape[0],
+        mass=lambda q: mass_matrix,
+        force=force,
+        constraint=lambda t, q: jac @ q,
+        constraint_jacobian=lambda t, q: jac,
+    )
+
+
 def wheelset_ggl_problem(model, roll_inertia, gravity=9.81) -> GGLProblem:
     """The suspended wheelset of ``model`` (a ``WheelsetModel``) with vertical motion and roll
     restricted by the contact constraints of conical wheels on knife-edge rails.
@@ -160,14 +172,7 @@ def wheelset_ggl_problem(model, roll_inertia, gravity=9.81) -> GGLProblem:
         k.rhs(k.KIND_WHEELSET, t, np.array([q[0], q[3], v[0], v[3]]), p, surf, out)
         return np.array([out[2], -model.mass * gravity, 0.0, out[3]])
 
-    return GGLProblem(
-        n_coordinates=4,
-        n_constraints=2,
-        mass=lambda q: mass_matrix,
-        force=force,
-        constraint=lambda t, q: jac @ q,
-        constraint_jacobian=lambda t, q: jac,
-    )
+    return _fixed_linear_constraints(mass_matrix, force, jac)
 
 
 def disk_wheel_ggl_problem(model):
@@ -235,3 +240,37 @@ def disk_wheel_ggl_problem(model):
     if sprung:
         v0[i_s] = 0.0
     return problem, q0, v0
+
+
+def bogie_ggl_problem(model, roll_inertia, gravity=9.81) -> GGLProblem:
+    """The bogie of ``model`` (a ``BogieModel``) with each wheelset's vertical motion and roll
+    restricted by the conical knife-edge contact constraints, as in ``wheelset_ggl_problem``.
+
+    Coordinates ``q = [y1, z1, phi1, psi1, y2, z2, phi2, psi2, y_f, psi_f]``; four constraints
+    ``z_i +- e phi_i -+ lam y_i = 0``. Forces from the compiled bogie kernel. The ODE twin is the
+    bogie with the wheelset mass ``m + I_x (lam / e)^2``.
+    """
+    from railwear.dynamics import kernels as k
+
+    e, lam = model.half_gauge, model.conicity
+    masses = [model.wheelset_mass, model.wheelset_mass, roll_inertia, model.wheelset_yaw_inertia] * 2
+    mass_matrix = np.diag(masses + [model.frame_mass, model.frame_yaw_inertia])
+    p = model.params()
+    for index in (k.BG_WHEELSET_MASS, k.BG_WHEELSET_YAW_INERTIA, k.BG_FRAME_MASS, k.BG_FRAME_YAW_INERTIA):
+        p[index] = 1.0  # the kernel then returns forces and moments
+    surf = np.zeros(0)
+    jac = np.zeros((4, 10))
+    for i in range(2):
+        jac[2 * i, 4 * i:4 * i + 3] = (-lam, 1.0, e)
+        jac[2 * i + 1, 4 * i:4 * i + 3] = (lam, 1.0, -e)
+    minimal = [0, 3, 4, 7, 8, 9]  # y1, psi1, y2, psi2, y_f, psi_f in q
+    out = np.empty(12)
+
+    def force(t, q, v):
+        k.rhs(k.KIND_BOGIE, t, np.concatenate([q[minimal], v[minimal]]), p, surf, out)
+        f = np.zeros(10)
+        f[minimal] = out[6:]
+        f[[1, 5]] = -model.wheelset_mass * gravity
+        return f
+
+    return _fixed_linear_constraints(mass_matrix, force, jac)

@@ -115,3 +115,25 @@ def test_rigid_disk_wheel_dae_gives_mass_times_the_second_derivative_of_u_bar():
     error = np.abs(normal - expected) / scale
     assert np.median(error) < 1e-9
     assert np.mean(error < 1e-6) > 0.98
+
+
+def test_bogie_dae_matches_its_ode_twin():
+    import dataclasses
+
+    from railwear.dynamics import BogieModel, simulate
+    from railwear.dynamics.dae import bogie_ggl_problem
+
+    bogie = BogieModel.cooperrider(40.0, conicity=0.15, initial_lateral_displacement=3e-3)
+    roll_inertia = 700.0
+    q0 = np.zeros(10)
+    q0[0] = bogie.initial_lateral_displacement
+    q0[2] = bogie.conicity * q0[0] / bogie.half_gauge
+    t_eval = np.linspace(0.0, 2.0, 401)
+    dae = solve_ggl(bogie_ggl_problem(bogie, roll_inertia), t_eval, q0, np.zeros(10), rtol=1e-9, atol=1e-12)
+    assert dae.constraint_drift < 1e-8
+    twin = dataclasses.replace(bogie, wheelset_mass=bogie.wheelset_mass
+                               + roll_inertia * (bogie.conicity / bogie.half_gauge) ** 2)
+    ode = simulate(twin, 2.0, t_eval=t_eval, rtol=1e-10, atol=1e-13)
+    assert np.max(np.abs(ode.lateral_displacement.values)) > bogie.flange_clearance  # into the flange
+    np.testing.assert_allclose(dae.q[:, [0, 4]], ode.lateral_displacement.values, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(dae.q[:, 8], ode.frame_lateral_displacement.values, rtol=0, atol=1e-8)
