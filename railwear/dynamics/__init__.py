@@ -6,8 +6,13 @@
   frozen, validated model dataclasses;
 - ``build_model(kind, section)``: a model from a scenario section (unknown/missing fields are errors);
 - ``simulate(model, t_end, **options)``: a run into an ``xarray.Dataset`` (CF units, long names);
+- ``ramp_down(model, speeds)``: the nonlinear critical speed by following the limit cycle down;
+- ``railwear.dynamics.dae``: the GGL index-2 DAE forms solved with SUNDIALS IDA;
 - ``railwear.dynamics.integrators.integrate``: the compiled integrators (Dormand-Prince 5(4),
   Rosenbrock 2(3)) with the model right-hand sides of ``railwear.dynamics.kernels`` in the loop.
+
+numba caches each compiled function keyed on its own source file only: after editing
+``kernels.py``, delete ``railwear/dynamics/__pycache__/*.nb[ic]`` so the integrators are rebuilt.
 """
 
 from railwear.dynamics.linear import critical_speed, linear_critical_speed, max_real_part, wheelset_state_matrix
@@ -20,9 +25,11 @@ from railwear.dynamics.models import (
     contact_constants,
 )
 from railwear.dynamics.simulation import simulate
+from railwear.dynamics.bifurcation import RampDown, ramp_down
 
 __all__ = [
     "BogieModel",
+    "RampDown",
     "DiskWheelModel",
     "TableWheelsetModel",
     "WheelsetModel",
@@ -31,6 +38,7 @@ __all__ = [
     "critical_speed",
     "linear_critical_speed",
     "max_real_part",
+    "ramp_down",
     "simulate",
     "wheelset_state_matrix",
 ]
