@@ -10,6 +10,9 @@ from railwear.errors import ScenarioError
 from railwear.pde import dispersion
 from railwear.scenario import parse_scenario
 
+# Coarse grids keep these tests fast; what they check does not depend on resolution.
+pytestmark = pytest.mark.filterwarnings("ignore::railwear.errors.ResolutionWarning")
+
 A, ORDER, LIMIT, EPSILON = 20e-6, 4, 0.3e-3, 1e-3
 SPEEDS_KMH = [50.0, 75.0, 100.0, 125.0, 150.0]
 

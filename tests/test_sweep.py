@@ -10,6 +10,9 @@ from railwear.errors import ScenarioError
 from railwear.pde import measured_growth_map, stability_map
 from railwear.scenario import build, load_scenario
 
+# Coarse grids keep these tests fast; what they check does not depend on resolution.
+pytestmark = pytest.mark.filterwarnings("ignore::railwear.errors.ResolutionWarning")
+
 
 def small(name="smoothing"):
     base = load_scenario(name)
