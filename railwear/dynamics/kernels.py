@@ -116,7 +116,10 @@ DW_TORQUE = 15
 DW_PATCH_HALF_ANGLE = 16  # a / R0 [rad]; 0: point contact
 DW_INITIAL_ANGLE = 17
 DW_N_CELLS = 18
-DW_N_PARAMS = 19
+DW_CREEP_LAW = 19  # 0: Johnson-Vermeulen cubic saturation; 1: FASTSIM creep curve from surf
+DW_CREEP_TABLE_OFFSET = 20  # where the creep curve starts in surf
+DW_CREEP_TABLE_POINTS = 21
+DW_N_PARAMS = 22
 DW_N_OUTPUTS = 7  # see disk_wheel_outputs
 
 TWO_PI = 2.0 * math.pi
@@ -444,12 +447,24 @@ def patch_average(surf, n, x, half_angle):
 
 
 @njit(cache=True, inline="always")
+def creep_curve(surf, offset, points, s):
+    """``F / (mu N)`` at the normalised creepage ``s = f11 |xi| / (mu N) >= 0`` from a curve
+    tabulated at ``r = s / (1 + s)`` on ``points`` equal steps over ``[0, 1]`` (``r = 1`` is full
+    slip), linear in ``r``."""
+    r = s / (1.0 + s)
+    pos = r * (points - 1)
+    j = min(int(pos), points - 2)
+    w = pos - j
+    return (1.0 - w) * surf[offset + j] + w * surf[offset + j + 1]
+
+
+@njit(cache=True, inline="always")
 def _disk_contact(t, y, p, surf):
     """Contact of the disk wheel: ``(N, creepage, Fx, power, x_c mod 2 pi, u_bar, delta)``.
 
     ``N = k_H delta_+^(3/2)``; creepage ``xi = (Omega (R0 + u_bar) - V) / V``;
-    ``Fx = f11 (N/W)^(2/3) xi`` (Kalker, ``c^2 ~ N^(2/3)``) with saturation at ``mu N``;
-    frictional power ``Fx xi V``.
+    ``Fx = f11 (N/W)^(2/3) xi`` (Kalker, ``c^2 ~ N^(2/3)``) saturated at ``mu N`` by the cubic
+    law or by FASTSIM's creep curve; frictional power ``Fx xi V``.
     """
     v = p[DW_SPEED]
     r0 = p[DW_RADIUS]
@@ -465,7 +480,12 @@ def _disk_contact(t, y, p, surf):
         # Kalker's f11 ~ c^2 ~ N^(2/3), and for Hertz (N/W)^(2/3) = delta/delta_0
         f11 = p[DW_F11] * delta / p[DW_STATIC_APPROACH]
         force = f11 * creepage
-        force *= saturation_factor(abs(force), p[DW_FRICTION] * normal)
+        limit = p[DW_FRICTION] * normal
+        if p[DW_CREEP_LAW] == 0.0 or not limit < np.inf:
+            force *= saturation_factor(abs(force), limit)
+        else:
+            ratio = creep_curve(surf, int(p[DW_CREEP_TABLE_OFFSET]), int(p[DW_CREEP_TABLE_POINTS]), abs(force) / limit)
+            force = math.copysign(limit * ratio, creepage)
     return normal, creepage, force, force * creepage * v, xc - math.floor(xc / TWO_PI) * TWO_PI, ubar, delta
 
 

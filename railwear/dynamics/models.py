@@ -398,7 +398,9 @@ class DiskWheelModel:
     ``f11`` [N] is Kalker's longitudinal coefficient at the static load; it scales with
     ``(N/W)^(2/3)``. ``traction_torque`` [N m] sets the creepage. ``radius_deviation`` holds
     ``u`` [m] at the angles ``2 pi j / n`` (``None``: round wheel); the contact reads its mean
-    over ``+- patch_half_length / radius`` about the contact angle.
+    over ``+- patch_half_length / radius`` about the contact angle. ``creep_law``: ``"cubic"``
+    (Johnson-Vermeulen saturation of Kalker's linear force) or ``"fastsim"`` (FASTSIM's creep
+    curve for pure longitudinal creepage, from ``railwear.contact.fastsim``).
     """
 
     speed: float
@@ -421,8 +423,10 @@ class DiskWheelModel:
     initial_angle: float = 0.0
     initial_lift: float = 0.0
     initial_vertical_velocity: float = 0.0
+    creep_law: str = "cubic"
 
     kind = k.KIND_DISK_WHEEL
+    CREEP_LAWS = ("cubic", "fastsim")
     n_states = 8
     default_atol = 1e-13
 
@@ -443,6 +447,9 @@ class DiskWheelModel:
         )
         if not _number(self, "friction_coefficient") > 0.0:
             raise ScenarioError(f"friction_coefficient: must be positive (inf for no saturation), got {self.friction_coefficient!r}")
+        if self.creep_law not in self.CREEP_LAWS:
+            raise ScenarioError(f"creep_law: must be one of {self.CREEP_LAWS}, got {self.creep_law!r}")
+        object.__setattr__(self, "_creep_curve", _fastsim_creep_curve() if self.creep_law == "fastsim" else np.zeros(0))
         if self.radius_deviation is not None:
             u = np.array(self.radius_deviation, dtype=float)
             if u.ndim != 1 or u.size < 2 or not np.all(np.isfinite(u)):
@@ -472,13 +479,22 @@ class DiskWheelModel:
         return 1.5 * self.static_load / self.static_approach
 
     def surface(self) -> np.ndarray:
-        """``u`` at the nodes followed by its cumulative trapezoidal integral (``kernels``)."""
+        """The kernel's surface array for the model's own ``radius_deviation``."""
         if self.radius_deviation is None:
-            return np.zeros(0)
-        u = self.radius_deviation
+            return self._creep_curve.copy()
+        return self.surface_for(self.radius_deviation)
+
+    def surface_for(self, u) -> np.ndarray:
+        """The kernel's surface array for another radius deviation ``u`` [m] on the model's grid
+        (a wear step changes ``u`` but not the model): ``u`` at the nodes, its cumulative
+        trapezoidal integral, then the FASTSIM creep curve if that law is chosen. Use it with
+        ``params()``, whose offsets assume this layout."""
+        u = np.asarray(u, dtype=float)
+        if u.shape != (self.n_cells(),):
+            raise ScenarioError(f"radius_deviation: expected {self.n_cells()} values on the model's grid, got {u.shape}")
         dx = 2.0 * math.pi / u.size
         cum = np.concatenate([[0.0], np.cumsum(0.5 * dx * (u + np.roll(u, -1)))])
-        return np.concatenate([u, cum])
+        return np.concatenate([u, cum, self._creep_curve])
 
     def n_cells(self) -> int:
         return 0 if self.radius_deviation is None else int(self.radius_deviation.size)
@@ -507,12 +523,19 @@ class DiskWheelModel:
 
         def residual(xi):
             force = self.f11 * xi
+            if self.creep_law == "fastsim":
+                curve, s = self._creep_curve, abs(force) / limit
+                ratio = np.interp(s / (1.0 + s), np.linspace(0.0, 1.0, curve.size), curve)
+                return math.copysign(limit * ratio, force) - demand
             return force * k.saturation_factor(abs(force), limit) - demand
 
         xi_lin = demand / self.f11
         if not math.isfinite(limit):
             return xi_lin
-        return brentq(residual, 0.0, 3.0 * xi_lin, xtol=1e-16, rtol=1e-14)
+        upper = 3.0 * xi_lin
+        while residual(upper) * np.sign(demand) < 0.0:  # FASTSIM approaches full slip slowly
+            upper *= 2.0
+        return brentq(residual, 0.0, upper, xtol=1e-16, rtol=1e-14)
 
     def params(self) -> np.ndarray:
         p = np.zeros(k.DW_N_PARAMS)
@@ -535,6 +558,9 @@ class DiskWheelModel:
         p[k.DW_PATCH_HALF_ANGLE] = self.patch_half_length / self.radius
         p[k.DW_INITIAL_ANGLE] = self.initial_angle
         p[k.DW_N_CELLS] = self.n_cells()
+        p[k.DW_CREEP_LAW] = self.CREEP_LAWS.index(self.creep_law)
+        p[k.DW_CREEP_TABLE_OFFSET] = 0 if self.radius_deviation is None else 2 * self.n_cells() + 1
+        p[k.DW_CREEP_TABLE_POINTS] = self._creep_curve.size
         return p
 
     def initial_state(self) -> np.ndarray:
@@ -657,6 +683,30 @@ def model_fields(model) -> dict:
             attrs = getattr(value, "attrs", {})
             out["table_profiles"] = f"{attrs.get('wheel_profile', '?')}/{attrs.get('rail_profile', '?')}"
     return out
+
+
+_CREEP_CURVE_POINTS = 257
+_creep_curve_cache = []
+
+
+def _fastsim_creep_curve():
+    """FASTSIM's creep curve for pure longitudinal creepage, ``F / (mu N)`` at ``r = s / (1 + s)``
+    on ``_CREEP_CURVE_POINTS`` equal steps, ``s = f11 xi / (mu N)`` (``r = 1``: full slip, 1).
+    With the elliptic traction bound the curve does not depend on the load, the friction
+    coefficient, the modulus or the patch shape, so one evaluation serves every model."""
+    if not _creep_curve_cache:
+        from railwear.contact import fastsim, kalker_coefficients
+
+        a, b, normal, mu, shear, poisson = 6e-3, 6e-3, 1e5, 0.3, 8e10, 0.28
+        f11 = shear * a * b * float(kalker_coefficients(a / b, poisson)[0])
+        r = np.linspace(0.0, 1.0, _CREEP_CURVE_POINTS)
+        curve = np.ones_like(r)
+        for i, ri in enumerate(r[:-1]):
+            xi = ri / (1.0 - ri) * mu * normal / f11
+            curve[i] = -fastsim(a, b, normal, xi, 0.0, 0.0, mu, shear, poisson).Fx / (mu * normal)
+        curve.setflags(write=False)
+        _creep_curve_cache.append(curve)
+    return _creep_curve_cache[0]
 
 
 def contact_constants(static_load, A, B, youngs_modulus, poisson) -> dict:

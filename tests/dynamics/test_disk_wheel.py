@@ -208,3 +208,34 @@ def test_frictional_energy_per_cell_is_conserved_and_placed_under_the_patch():
     assert ds.frictional_energy.values.sum() == pytest.approx(total, rel=1e-6)
     with pytest.raises(ScenarioError, match="cell_energy"):
         simulate(DiskWheelModel(**base), 0.01, cell_energy=True)
+
+
+@pytest.mark.parametrize("torque", [2e3, 8e3, 9.5e3, -8e3])
+def test_fastsim_creep_law_meets_fastsim_itself(torque):
+    """With creep_law="fastsim" the steady creepage under a torque is the one at which FASTSIM
+    (railwear.contact.fastsim, called directly on a patch with the model's f11) gives T / R0."""
+    from railwear.contact import fastsim, kalker_coefficients
+
+    model = DiskWheelModel(**P2, traction_torque=torque, creep_law="fastsim")
+    xi = model.steady_creepage()
+    ds = simulate(model, 0.3, rtol=1e-9, n_output=301)
+    assert ds.creepage.values[-1] == pytest.approx(xi, rel=1e-6)
+    a = b = 6e-3
+    shear = model.f11 / (a * b * float(kalker_coefficients(1.0, 0.28)[0]))
+    direct = -fastsim(a, b, model.static_load, xi, 0.0, 0.0, model.friction_coefficient, shear, 0.28).Fx
+    assert direct == pytest.approx(torque / model.radius, rel=2e-3)  # braking too (negative torque)
+    cubic = DiskWheelModel(**P2, traction_torque=torque)
+    if torque > 9e3:  # near full slip the laws part
+        assert abs(cubic.steady_creepage() / xi - 1) > 0.05
+
+
+def test_surface_for_another_u_keeps_the_layout():
+    model = DiskWheelModel(**P2, traction_torque=2e3, creep_law="fastsim",
+                           radius_deviation=1e-6 * np.cos(3 * ANGLES))
+    np.testing.assert_array_equal(model.surface_for(model.radius_deviation), model.surface())
+    worn = model.surface_for(2e-6 * np.cos(3 * ANGLES))
+    assert worn.size == model.surface().size
+    offset = int(model.params()[kernels.DW_CREEP_TABLE_OFFSET])
+    np.testing.assert_array_equal(worn[offset:], model.surface()[offset:])  # the creep curve follows
+    with pytest.raises(ScenarioError, match="radius_deviation"):
+        model.surface_for(np.zeros(7))
