@@ -239,3 +239,18 @@ def test_surface_for_another_u_keeps_the_layout():
     np.testing.assert_array_equal(worn[offset:], model.surface()[offset:])  # the creep curve follows
     with pytest.raises(ScenarioError, match="radius_deviation"):
         model.surface_for(np.zeros(7))
+
+
+def test_fastsim_creep_curve_does_not_depend_on_the_patch():
+    """The tabulated curve serves every model: FASTSIM's F/(mu N) against f11 xi/(mu N) is the
+    same for other patch shapes, loads, friction and moduli."""
+    from railwear.contact import fastsim, kalker_coefficients
+
+    model = DiskWheelModel(**P2, creep_law="fastsim")
+    surf, p = model.surface(), model.params()
+    offset, points = int(p[kernels.DW_CREEP_TABLE_OFFSET]), int(p[kernels.DW_CREEP_TABLE_POINTS])
+    for a, b, normal, mu, shear in ((4e-3, 8e-3, 5e4, 0.2, 7e10), (9e-3, 5e-3, 1.2e5, 0.45, 8.2e10)):
+        f11 = shear * a * b * float(kalker_coefficients(a / b, 0.28)[0])
+        for s in (0.3, 1.0, 2.5):
+            direct = -fastsim(a, b, normal, s * mu * normal / f11, 0.0, 0.0, mu, shear, 0.28).Fx / (mu * normal)
+            assert kernels.creep_curve(surf, offset, points, s) == pytest.approx(direct, rel=2e-3)
