@@ -1,0 +1,225 @@
+"""Strategy 3 of the paper: stepwise frozen geometry (section "Solution strategies", Fig. 7).
+
+With the radius deviation ``u`` frozen, the disk wheel runs for ``transient_revolutions`` (thrown
+away) and then ``revolutions`` more, for ``samples`` random draws of the initial phase (the contact
+angle, uniform on [0, 2π)) and of the speed from the service distribution (peaks with weights and
+a normal scatter). Each draw gives the depth each cell loses per metre run, the integral of the
+"teeth" of Fig. 7 over the revolutions; their mean over the draws is the Monte Carlo estimate of
+the wear rate ``r_j`` (m per unit normed time), with the standard error ``s_j = std / sqrt(samples)``.
+The geometry is then advanced over a long-term step
+
+    u ← u - r ΔT,   ΔT = step_limit / max_j |r_j|,
+
+so no cell changes by more than ``step_limit`` (m); repeat. This is the forward Euler method in
+the long-term time on the Monte Carlo rate: first order in ``step_limit``. The standard error is
+carried along, ``var(u_j) += (s_j ΔT)²``, as the run's error estimate.
+"""
+
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from railwear.errors import ScenarioError
+from railwear.longterm.wheel_runs import (Integration, WheelWear, advance, checked_start,
+                                          result, depth_per_energy, fingerprint,
+                                          rng_from_text, rng_state_text, start_lift, stop_fraction,
+                                          wheel_turn)
+
+
+@dataclass(frozen=True)
+class ServiceSpeeds:
+    """Speed distribution of service: ``peaks`` (m/s) drawn with ``weights`` (summing to 1), each
+    with a normal ``scatter`` (m/s, standard deviation; draws are kept above 0.5 m/s)."""
+
+    peaks: tuple
+    weights: tuple | None = None
+    scatter: float = 0.0
+
+    def __post_init__(self):
+        peaks = tuple(float(v) for v in np.atleast_1d(self.peaks))
+        object.__setattr__(self, "peaks", peaks)
+        if not peaks or not all(np.isfinite(v) and v > 0 for v in peaks):
+            raise ScenarioError("service speeds: every peak must be finite and > 0 (m/s)")
+        weights = (1.0 / len(peaks),) * len(peaks) if self.weights is None else tuple(float(w) for w in self.weights)
+        object.__setattr__(self, "weights", weights)
+        if len(weights) != len(peaks) or any(not w >= 0 for w in weights):
+            raise ScenarioError("service speeds: one weight >= 0 per peak is needed")
+        if abs(sum(weights) - 1) > 1e-9:
+            raise ScenarioError(f"service speeds: the weights must sum to 1, not {sum(weights):g}")
+        if not (np.isfinite(self.scatter) and self.scatter >= 0):
+            raise ScenarioError("service speeds: scatter must be finite and >= 0 (m/s)")
+
+    @property
+    def mean(self):
+        """Mean speed (m/s)."""
+        return float(np.dot(self.peaks, self.weights))
+
+    def sample(self, rng, n):
+        """``n`` speeds (m/s) drawn with ``rng``."""
+        peak = rng.choice(len(self.peaks), size=n, p=np.asarray(self.weights))
+        v = np.asarray(self.peaks)[peak] + self.scatter * rng.standard_normal(n)
+        low = v < 0.5
+        while np.any(low):
+            v[low] = np.asarray(self.peaks)[peak[low]] + self.scatter * rng.standard_normal(int(low.sum()))
+            low = v < 0.5
+        return v
+
+
+@dataclass(frozen=True)
+class FrozenGeometry(WheelWear):
+    """Wear statistics of the disk wheel over a frozen ``u`` (paper Fig. 7).
+
+    The dynamics see the shape ``u - mean(u)`` (a uniformly smaller wheel only lowers the axle),
+    and each draw starts at the static approach under the cell it starts on.
+
+    ``model`` a :class:`~railwear.dynamics.DiskWheelModel` (its speed, phase and ``u`` are
+    replaced per draw); ``beta`` (m³/J) the energy law's volume per energy; ``band_width`` (m) the
+    lateral width the wear spreads over; ``life_distance`` (m) one unit of normed time.
+    """
+
+    service: ServiceSpeeds
+    revolutions: int = 4
+    transient_revolutions: int = 4
+    samples: int = 8
+    integration: Integration = field(default_factory=Integration)
+
+    def __post_init__(self):
+        super().__post_init__()
+        if int(self.revolutions) != self.revolutions or self.revolutions < 1:
+            raise ScenarioError(f"revolutions must be a whole number >= 1, got {self.revolutions}")
+        if int(self.transient_revolutions) != self.transient_revolutions or self.transient_revolutions < 0:
+            raise ScenarioError(f"transient_revolutions must be a whole number >= 0, got {self.transient_revolutions}")
+        if int(self.samples) != self.samples or self.samples < 2:
+            raise ScenarioError(f"samples must be a whole number >= 2 (for a variance), got {self.samples}")
+
+    def draw(self, u, rng):
+        """One Monte Carlo set over the frozen ``u`` (m): ``(rates, speeds, cost)``, ``rates`` the
+        depth per unit normed time of each draw and cell (m), ``(samples, n)``; ``cost`` a dict of
+        revolutions simulated and right-hand-side evaluations."""
+        from dataclasses import replace
+
+        u = np.asarray(u, float)
+        shape = u - u.mean()
+        speeds = self.service.sample(rng, self.samples)
+        phases = rng.uniform(0.0, 2.0 * np.pi, self.samples)
+        rates = np.empty((self.samples, u.size))
+        nfev = 0
+        for i, (v, phase) in enumerate(zip(speeds, phases)):
+            model = replace(self.model, speed=float(v), radius_deviation=shape, initial_angle=float(phase),
+                            initial_lift=start_lift(self.model, shape, phase))
+            p, surf, y = model.params(), model.surface(), model.initial_state()
+            turn = wheel_turn(model)
+            t0 = self.transient_revolutions * turn
+            if t0 > 0:
+                y, n = advance(model, p, surf, y, 0.0, t0, np.zeros(0), self.integration)
+                nfev += n
+            energy = np.zeros(u.size)
+            _, n = advance(model, p, surf, y, t0, t0 + self.revolutions * turn, energy, self.integration)
+            nfev += n
+            distance = self.revolutions * turn * model.speed
+            rates[i] = energy * depth_per_energy(model, u.size, self.beta, self.band_width) / distance * self.life_distance
+        cost = {"revolutions": self.samples * (self.revolutions + self.transient_revolutions), "rhs_evaluations": nfev}
+        return rates, speeds, cost
+
+    def statistics(self, u, rng):
+        """Mean wear rate per cell (m per unit normed time), its standard error and the cost."""
+        rates, _, cost = self.draw(u, rng)
+        return rates.mean(0), rates.std(0, ddof=1) / np.sqrt(self.samples), cost
+
+
+@dataclass(frozen=True)
+class StepwiseCheckpoint:
+    """State of a stepwise run after ``intervals`` long-term steps (all fields plain values or
+    arrays, for ``.npz``): ``u`` and its Monte Carlo variance, normed time, the generator state as
+    JSON text, what was saved so far and the cost spent."""
+
+    fingerprint: str
+    intervals: int
+    time: float
+    u: np.ndarray
+    variance: np.ndarray
+    rng_state: str
+    saved: np.ndarray
+    saved_error: np.ndarray
+    times: np.ndarray
+    revolutions: int
+    rhs_evaluations: int
+
+
+@dataclass(frozen=True)
+class Stepwise:
+    """Strategy 3: frozen-geometry statistics extrapolated over steps of at most ``step_limit``
+    (m) change of ``u``; ``seed`` seeds the one ``numpy.random.Generator`` of the run."""
+
+    frozen: FrozenGeometry
+    step_limit: float
+    seed: int = 0
+    max_steps: int = 100_000
+
+    def __post_init__(self):
+        if not (np.isfinite(self.step_limit) and self.step_limit > 0):
+            raise ScenarioError(f"step_limit must be > 0 (m), got {self.step_limit}")
+        if int(self.seed) != self.seed or self.seed < 0:
+            raise ScenarioError(f"seed must be a whole number >= 0, got {self.seed}")
+
+    def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
+        """``u`` (m) over normed time from ``u0`` until ``until`` or until the most worn spot has
+        lost ``depth_limit`` (m). ``checkpoint(StepwiseCheckpoint)`` is called after every step;
+        ``resume`` continues from one, to the same result bit for bit."""
+        from railwear.longterm.phenomenological import describe
+
+        u0 = checked_start(u0, until, depth_limit)
+        f = self.frozen
+        key = fingerprint(u0, until, depth_limit, self.step_limit, self.seed, f.beta, f.band_width,
+                          f.life_distance, f.service, f.revolutions, f.transient_revolutions, f.samples,
+                          f.integration, repr(f.model))
+        started = _time.perf_counter()
+        if resume is not None:
+            if resume.fingerprint != key:
+                raise ScenarioError("resume: the checkpoint belongs to another problem")
+            j, T = int(resume.intervals), float(resume.time)
+            u, var = resume.u.copy(), resume.variance.copy()
+            rng = rng_from_text(resume.rng_state)
+            saved, saved_err, times = list(resume.saved), list(resume.saved_error), list(resume.times)
+            revolutions, nfev = int(resume.revolutions), int(resume.rhs_evaluations)
+        else:
+            j, T, u, var = 0, 0.0, u0.copy(), np.zeros(u0.size)
+            rng = np.random.default_rng(self.seed)
+            saved, saved_err, times = [u0.copy()], [np.zeros(u0.size)], [0.0]
+            revolutions = nfev = 0
+        while T < until and (depth_limit is None or np.max(u0 - u) < depth_limit * (1 - 1e-12)):
+            if j >= self.max_steps:
+                raise ScenarioError(f"step_limit: {self.max_steps} steps did not reach the end; raise step_limit")
+            rate, error, cost = f.statistics(u, rng)
+            revolutions += cost["revolutions"]
+            nfev += cost["rhs_evaluations"]
+            top = np.max(np.abs(rate))
+            dT = self.step_limit / top if top > 0 else np.inf
+            if T + dT >= until:
+                dT = until - T
+            frac = stop_fraction(u0 - u, rate * dT, depth_limit)
+            at_end = frac == 1.0 and dT == until - T
+            dT *= frac
+            u = u - rate * dT
+            var = var + (error * dT) ** 2
+            T = until if at_end else T + dT
+            j += 1
+            saved.append(u.copy())
+            saved_err.append(np.sqrt(var))
+            times.append(T)
+            if progress is not None:
+                done = T / until
+                if depth_limit is not None:
+                    done = max(done, float(np.max(u0 - u)) / depth_limit)
+                progress(min(done, 1.0))
+            if checkpoint is not None:
+                checkpoint(StepwiseCheckpoint(key, j, T, u.copy(), var.copy(), rng_state_text(rng),
+                                              np.array(saved), np.array(saved_err), np.array(times),
+                                              revolutions, nfev))
+        error = {"u_standard_error": (("time", "angle"), np.array(saved_err),
+                                      {"units": "m", "long_name": "Monte Carlo standard error of u"})}
+        ds = result(saved, times, revolutions, nfev, f.service.mean,
+                    {"strategy": "stepwise frozen geometry", "steps": j, "step_limit_m": self.step_limit,
+                     "wall_seconds": _time.perf_counter() - started}, error)
+        return describe(ds)

@@ -1,0 +1,106 @@
+"""Strategy 3, stepwise frozen geometry: convergence in the step limit, bit-for-bit resume, input checks."""
+
+import numpy as np
+import pytest
+
+from railwear.errors import ScenarioError
+from railwear.longterm.stepwise import FrozenGeometry, ServiceSpeeds, Stepwise
+
+WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
+
+
+def frozen(model, **kw):
+    options = dict(revolutions=4, transient_revolutions=4, samples=2, service=ServiceSpeeds((model.speed,)))
+    options.update(kw)
+    return FrozenGeometry(model, **WEAR, **options)
+
+
+def shape_error(u, ref):
+    d, r = u - u.mean(), ref - ref.mean()
+    return float(np.sqrt(np.mean((d - r) ** 2) / np.mean(r**2)))
+
+
+def test_converges_as_the_step_limit_falls(wheel_220, rough_u0):
+    """Forward Euler in the long-term time: halving the step limit about halves the error."""
+    f = frozen(wheel_220)
+    runs = {lim: Stepwise(f, lim, seed=3).run(rough_u0, until=1.0, depth_limit=40e-6)
+            for lim in (8e-6, 4e-6, 2e-6, 1e-6)}
+    ref = runs[1e-6]
+    errors = [shape_error(runs[lim].u.values[-1], ref.u.values[-1]) for lim in (8e-6, 4e-6, 2e-6)]
+    stops = [abs(float(runs[lim].stop_time - ref.stop_time)) for lim in (8e-6, 4e-6, 2e-6)]
+    assert errors[0] > 1.6 * errors[1] > 1.6**2 * errors[2] > 0
+    assert stops[0] > 1.5 * stops[1] > 1.5**2 * stops[2] > 0
+    assert errors[-1] < 2e-3
+    # all stopped at the same removed depth
+    for ds in runs.values():
+        assert float(ds.removed_depth[-1]) == pytest.approx(40e-6, rel=1e-9)
+
+
+def test_the_monte_carlo_error_estimate_covers_the_spread_of_seeds(wheel_220, rough_u0):
+    service = ServiceSpeeds((180 / 3.6, 220 / 3.6), (0.4, 0.6), 5.0)
+    f = frozen(wheel_220, service=service, samples=4)
+    runs = [Stepwise(f, 10e-6, seed=s).run(rough_u0, until=1.0, depth_limit=30e-6) for s in range(4)]
+    # same stop depth, different seeds: the spread of u at the end is of the size of the estimate
+    finals = np.array([r.u.values[-1] - r.u.values[-1].mean() for r in runs])
+    spread = finals.std(0, ddof=1).mean()
+    estimate = np.mean([r.u_standard_error.values[-1].mean() for r in runs])
+    assert 0.2 < spread / estimate < 5
+    assert estimate > 0
+
+
+def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0):
+    service = ServiceSpeeds((180 / 3.6, 220 / 3.6), (0.4, 0.6), 5.0)
+    strategy = Stepwise(frozen(wheel_220, service=service), 8e-6, seed=7)
+    whole = strategy.run(rough_u0, until=1.0, depth_limit=30e-6)
+    saved = []
+
+    class Killed(Exception):
+        pass
+
+    def kill_after_two(cp):
+        saved.append(cp)
+        if cp.intervals == 2:
+            raise Killed
+
+    with pytest.raises(Killed):
+        strategy.run(rough_u0, until=1.0, depth_limit=30e-6, checkpoint=kill_after_two)
+    resumed = strategy.run(rough_u0, until=1.0, depth_limit=30e-6, resume=saved[-1])
+    assert whole.sizes["time"] > 3
+    np.testing.assert_array_equal(resumed.u.values, whole.u.values)
+    np.testing.assert_array_equal(resumed.u_standard_error.values, whole.u_standard_error.values)
+    assert int(resumed.cost_revolutions) == int(whole.cost_revolutions)
+    other = Stepwise(frozen(wheel_220, service=service), 4e-6, seed=7)
+    with pytest.raises(ScenarioError, match="another problem"):
+        other.run(rough_u0, until=1.0, depth_limit=30e-6, resume=saved[-1])
+
+
+@pytest.mark.parametrize("limit", [0.0, -1e-6, float("nan")])
+def test_a_step_limit_of_zero_or_below_is_refused_before_any_run(wheel_220, limit):
+    with pytest.raises(ScenarioError, match="step_limit"):
+        Stepwise(frozen(wheel_220), limit)
+
+
+def test_bad_speed_distribution_and_samples_are_refused(wheel_220):
+    with pytest.raises(ScenarioError, match="sum to 1"):
+        ServiceSpeeds((40.0, 60.0), (0.5, 0.6))
+    with pytest.raises(ScenarioError, match="samples"):
+        frozen(wheel_220, samples=1)
+
+
+def test_speed_draws_follow_the_peaks_and_weights():
+    service = ServiceSpeeds((40.0, 60.0), (0.25, 0.75), 0.0)
+    v = service.sample(np.random.default_rng(0), 4000)
+    assert set(np.unique(v)) == {40.0, 60.0}
+    assert np.mean(v == 60.0) == pytest.approx(0.75, abs=0.03)
+    assert service.mean == pytest.approx(55.0)
+
+
+def test_round_wheel_wears_at_the_steady_frictional_power(wheel_220):
+    """u = 0: every cell loses β F ξ V t / (R0 Δx w) with F = T / R0 and ξ the steady creepage."""
+    f = frozen(wheel_220, transient_revolutions=1)
+    rate, error, _ = f.statistics(np.zeros(64), np.random.default_rng(0))
+    m = wheel_220
+    power_per_metre = abs(m.traction_torque / m.radius * m.steady_creepage())
+    expected = WEAR["beta"] * power_per_metre / (2 * np.pi * m.radius * WEAR["band_width"]) * WEAR["life_distance"]
+    np.testing.assert_allclose(rate, expected, rtol=1e-5)
+    assert np.all(error < 1e-5 * expected)
