@@ -1,0 +1,84 @@
+"""Strategy 1, direct coupled integration: convergence in the acceleration factor, agreement with
+the stepwise strategy, resume, input checks."""
+
+import numpy as np
+import pytest
+
+from railwear.errors import ScenarioError
+from railwear.longterm.direct import Direct
+from railwear.longterm.stepwise import FrozenGeometry, ServiceSpeeds, Stepwise
+
+WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
+
+
+def shape_error(u, ref):
+    d, r = u - u.mean(), ref - ref.mean()
+    return float(np.sqrt(np.mean((d - r) ** 2) / np.mean(r**2)))
+
+
+@pytest.fixture(scope="module")
+def runs(wheel_220, rough_u0):
+    return {a: Direct(wheel_220, **WEAR, acceleration=a).run(rough_u0, until=1.0, depth_limit=40e-6)
+            for a in (2e4, 1e4, 5e3, 2.5e3)}
+
+
+def test_converges_as_the_acceleration_factor_falls(runs):
+    ref = runs[2.5e3]
+    stops = [abs(float(runs[a].stop_time - ref.stop_time)) for a in (2e4, 1e4, 5e3)]
+    errors = [shape_error(runs[a].u.values[-1], ref.u.values[-1]) for a in (2e4, 1e4, 5e3)]
+    # first order in A: the distance to the 40 um depth halves with A
+    assert stops[0] > 1.6 * stops[1] > 1.6**2 * stops[2] > 0
+    assert errors[0] > errors[1] > errors[2] > 0
+    assert errors[-1] < 2e-3
+    for ds in runs.values():
+        assert float(ds.removed_depth[-1]) == pytest.approx(40e-6, rel=1e-9)
+
+
+def test_agrees_with_the_stepwise_strategy(runs, wheel_220, rough_u0):
+    frozen = FrozenGeometry(wheel_220, **WEAR, service=ServiceSpeeds((wheel_220.speed,)), revolutions=4,
+                            transient_revolutions=4, samples=2)
+    step = Stepwise(frozen, 2e-6).run(rough_u0, until=1.0, depth_limit=40e-6)
+    ref = runs[2.5e3]
+    assert shape_error(step.u.values[-1], ref.u.values[-1]) < 3e-3
+    assert float(step.stop_time) == pytest.approx(float(ref.stop_time), rel=3e-3)
+
+
+def test_finer_surface_updates_converge_too(wheel_220, rough_u0):
+    """Four surface updates per revolution: also first order in A, towards the same limit."""
+    fine = {a: Direct(wheel_220, **WEAR, acceleration=a, updates_per_revolution=4).run(
+        rough_u0, until=1.0, depth_limit=20e-6) for a in (1e4, 5e3)}
+    coarse = Direct(wheel_220, **WEAR, acceleration=2.5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
+    errors = [shape_error(fine[a].u.values[-1], coarse.u.values[-1]) for a in (1e4, 5e3)]
+    assert errors[0] > 1.5 * errors[1]
+
+
+def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0, runs):
+    strategy = Direct(wheel_220, **WEAR, acceleration=2e4, n_save=11)
+    whole = strategy.run(rough_u0, until=1.0, depth_limit=40e-6)
+    saved = []
+
+    class Killed(Exception):
+        pass
+
+    def kill(cp):
+        saved.append(cp)
+        if len(saved) == 3:
+            raise Killed
+
+    with pytest.raises(Killed):
+        strategy.run(rough_u0, until=1.0, depth_limit=40e-6, checkpoint=kill)
+    resumed = strategy.run(rough_u0, until=1.0, depth_limit=40e-6, resume=saved[-1])
+    np.testing.assert_array_equal(resumed.u.values, whole.u.values)
+    np.testing.assert_array_equal(resumed.time.values, whole.time.values)
+
+
+@pytest.mark.parametrize("factor", [0.5, 0.0, -3.0, float("nan")])
+def test_an_acceleration_factor_below_one_is_an_error(wheel_220, factor):
+    with pytest.raises(ScenarioError, match="acceleration factor"):
+        Direct(wheel_220, **WEAR, acceleration=factor)
+
+
+def test_stops_at_the_normed_time(wheel_220, rough_u0):
+    ds = Direct(wheel_220, **WEAR, acceleration=2e4, n_save=5).run(rough_u0, until=0.01)
+    assert float(ds.time[-1]) == 0.01
+    assert ds.sizes["time"] == 5
