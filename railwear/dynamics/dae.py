@@ -21,7 +21,15 @@ import numpy as np
 
 from railwear.errors import NumericalInstabilityError, ScenarioError
 
-__all__ = ["GGLProblem", "GGLSolution", "bogie_ggl_problem", "disk_wheel_ggl_problem", "planar_pendulum", "solve_ggl", "wheelset_ggl_problem"]
+__all__ = [
+    "GGLProblem",
+    "GGLSolution",
+    "bogie_ggl_problem",
+    "disk_wheel_ggl_problem",
+    "planar_pendulum",
+    "solve_ggl",
+    "wheelset_ggl_problem",
+]
 
 
 @dataclass(frozen=True)

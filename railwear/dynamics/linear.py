@@ -121,4 +121,5 @@ def critical_speed(model, v_min=0.5, v_max=1.0e4, n_scan=400) -> float:
 
 
 def _refine(model, v_lo, v_hi):
-    return brentq(lambda v: max_real_part(model, v), v_lo, v_hi, xtol=1e-14 * v_hi, rtol=4 * np.finfo(float).eps, maxiter=200)
+    return brentq(lambda v: max_real_part(model, v), v_lo, v_hi, xtol=1e-14 * v_hi, rtol=4 * np.finfo(float).eps,
+                  maxiter=200)

@@ -17,7 +17,16 @@ from railwear.dynamics import kernels as k
 from railwear.dynamics.linear import wheelset_state_matrix
 from railwear.errors import ScenarioError
 
-__all__ = ["BogieModel", "DiskWheelModel", "MODEL_KINDS", "TableWheelsetModel", "WheelsetModel", "build_model", "contact_constants", "numerical_state_matrix"]
+__all__ = [
+    "BogieModel",
+    "DiskWheelModel",
+    "MODEL_KINDS",
+    "TableWheelsetModel",
+    "WheelsetModel",
+    "build_model",
+    "contact_constants",
+    "numerical_state_matrix",
+]
 
 
 def _number(model, name):
@@ -446,7 +455,9 @@ class DiskWheelModel:
             ),
         )
         if not _number(self, "friction_coefficient") > 0.0:
-            raise ScenarioError(f"friction_coefficient: must be positive (inf for no saturation), got {self.friction_coefficient!r}")
+            raise ScenarioError(
+                f"friction_coefficient: must be positive (inf for no saturation), got {self.friction_coefficient!r}"
+            )
         if self.creep_law not in self.CREEP_LAWS:
             raise ScenarioError(f"creep_law: must be one of {self.CREEP_LAWS}, got {self.creep_law!r}")
         object.__setattr__(self, "_creep_curve", _fastsim_creep_curve() if self.creep_law == "fastsim" else np.zeros(0))
@@ -516,7 +527,8 @@ class DiskWheelModel:
         limit = self.friction_coefficient * self.static_load
         if abs(demand) >= limit:
             raise ScenarioError(
-                f"traction_torque: {self.traction_torque!r} N m needs more than the adhesion limit mu W R0 = {limit * self.radius:.6g} N m"
+                f"traction_torque: {self.traction_torque!r} N m needs more than the adhesion limit "
+                f"mu W R0 = {limit * self.radius:.6g} N m"
             )
         if self.f11 <= 0.0:
             raise ScenarioError("f11: must be positive when a traction_torque is applied")
@@ -577,7 +589,9 @@ class DiskWheelModel:
         """Mass, damping and stiffness matrices of the vertical motion linearised about static
         equilibrium, DOFs ``[z_w, z_s?, z_r?]``, with the forcing vector of ``u_bar`` [N/m]."""
         kc = self.contact_stiffness
-        dofs = ["wheel"] + (["sprung"] if self.sprung_mass is not None else []) + (["rail"] if self.rail_mass is not None else [])
+        dofs = ["wheel"]
+        dofs += ["sprung"] if self.sprung_mass is not None else []
+        dofs += ["rail"] if self.rail_mass is not None else []
         n = len(dofs)
         m, c, kk, f = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n)), np.zeros(n)
         m[0, 0] = self.wheel_mass

@@ -31,7 +31,9 @@ def _options(model, t_end, method, rtol, atol, t_eval, output_every, n_output, m
         raise ScenarioError(f"method: must be one of {sorted(METHODS)}, got {method!r}")
     rtol = float(rtol)
     if not (100.0 * _EPS <= rtol < 1.0):
-        raise ScenarioError(f"rtol: cannot be met in double precision or is meaningless; need 2.2e-14 <= rtol < 1, got {rtol!r}")
+        raise ScenarioError(
+            f"rtol: cannot be met in double precision or is meaningless; need 2.2e-14 <= rtol < 1, got {rtol!r}"
+        )
     atol = model.default_atol if atol is None else float(atol)
     if not (atol > 0.0 and math.isfinite(atol)):
         raise ScenarioError(f"atol: must be a positive finite number, got {atol!r}")
