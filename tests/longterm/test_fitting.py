@@ -1,0 +1,77 @@
+"""Strategy 4's fit of h(u_xx, v) from frozen-geometry statistics (paper Fig. 8)."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from railwear.errors import ScenarioError
+from railwear.geometry import roundness
+from railwear.longterm.fitting import curvature, fit_h, gather
+from railwear.longterm.stepwise import FrozenGeometry, ServiceSpeeds
+from railwear.pde import Table
+
+WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
+
+
+def synthetic(h, speeds, noise, rng, cells=4000):
+    s = rng.normal(0.0, 5e-3, (len(speeds), 1, cells))
+    rate = np.stack([h(s[i], v) for i, v in enumerate(speeds)]) + noise * rng.standard_normal(s.shape)
+    dims = ("speed", "geometry", "angle")
+    return xr.Dataset({"curvature": (dims, s), "rate": (dims, rate), "standard_error": (dims, np.full(s.shape, noise))},
+                      coords={"speed": ("speed", np.asarray(speeds, float))})
+
+
+def test_curvature_is_exact_for_a_harmonic():
+    x = 2 * np.pi * np.arange(64) / 64
+    np.testing.assert_allclose(curvature(1e-5 * np.cos(7 * x)), -49e-5 * np.cos(7 * x), atol=1e-15)
+
+
+def test_recovers_a_known_cubic_from_noisy_statistics_and_emits_a_table():
+    def h(s, v):
+        return -1.6e-3 + 0.02 * v / 60 * s - 3.0 * s**2 - 400.0 * s**3
+
+    rng = np.random.default_rng(2)
+    stats = synthetic(h, [40.0, 60.0], 2e-5, rng)
+    fit = fit_h(stats, degree=3)
+    assert isinstance(fit.table, Table)
+    assert np.all(fit.chi2 < 2.5)
+    # inside the bulk of the data (2 standard deviations of the curvature), to about two standard
+    # errors of a bin mean (2e-5 / sqrt(4000 / 24) = 1.5e-6)
+    s = np.linspace(-1e-2, 1e-2, 11)
+    for i, v in enumerate([40.0, 60.0]):
+        np.testing.assert_allclose(fit.table.at_speed(v)(s), h(s, v), atol=3e-6)
+    # a straight line cannot carry the cubic: the fit says so
+    assert np.all(fit_h(stats, degree=1).chi2 > 10)
+
+
+def test_fitted_h_reproduces_the_disk_wheel_statistics_it_was_fitted_to(wheel_220):
+    rng = np.random.default_rng(0)
+    geometries = [roundness.random_perturbation(64, rms, 2, 16, rng) for rms in (20e-6, 50e-6, 80e-6)]
+    v = wheel_220.speed
+
+    def frozen(speed):
+        return FrozenGeometry(wheel_220, **WEAR, service=ServiceSpeeds((speed,)), revolutions=3,
+                              transient_revolutions=3, samples=2)
+
+    stats = gather(frozen, [v], geometries, rng)
+    fit = fit_h(stats, degree=2, bins=12)
+    # the bin means lie on the fitted h within their standard errors (reduced chi^2 near 1)
+    assert fit.chi2[0] < 3
+    table = fit.table.at_speed(v)
+    bins = np.array_split(np.argsort(stats.curvature.values[0].ravel(), kind="stable"), 12)
+    of_table = np.array([table(stats.curvature.values[0].ravel()[b]).mean() for b in bins])
+    resid = (of_table - fit.bin_rate[0]) / fit.bin_error[0]
+    assert np.mean(np.abs(resid) < 2.5) >= 0.8
+    # and the mean over the cells is the mean wear of the wheel
+    mean_error = 2 * float(np.mean(fit.bin_error[0])) / np.sqrt(fit.bin_error[0].size)
+    assert float(np.mean(table(stats.curvature.values[0]))) == pytest.approx(float(stats.rate.mean()), abs=mean_error)
+    # wear: h < 0; smoothing at this speed: h rises with the curvature
+    assert fit.coefficients[0][0] < 0 and fit.coefficients[0][1] > 0
+
+
+def test_bad_fit_options():
+    stats = synthetic(lambda s, v: s, [40.0], 1e-6, np.random.default_rng(0), cells=100)
+    with pytest.raises(ScenarioError):
+        fit_h(stats, degree=0)
+    with pytest.raises(ScenarioError):
+        fit_h(stats, degree=3, bins=4)
