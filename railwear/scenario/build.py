@@ -84,8 +84,13 @@ def strategy(scenario: Scenario):
     if scenario.strategy.kind == "phenomenological":
         return Phenomenological(wear_rate(scenario), np.asarray(speeds, float), solver.epsilon, solver.nu,
                                 options={"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt})
+    if scenario.strategy.kind == "stepwise":
+        return stepwise(scenario)
     if isinstance(speeds, list):
-        raise ScenarioError("operation: the Fourier strategy takes one speed; sweep over speeds instead")
+        raise ScenarioError(f"operation: the {scenario.strategy.kind} strategy takes one speed; "
+                            "sweep over speeds instead")
+    if scenario.strategy.kind == "direct":
+        return direct(scenario)
     fourier = Fourier.disk_wheel(disk_wheel_model(scenario, speeds), wear_law(scenario), band_width(scenario))
     return FourierStrategy(fourier, scenario.operation.life_distance_km * 1e3, solver.n_save)
 
@@ -101,3 +106,41 @@ def band_width(scenario: Scenario):
     """Lateral width the tread wear spreads over (m): ``wear.band_width_mm``, else the Hertz ``2b``."""
     width = scenario.wear.band_width_mm
     return width * 1e-3 if width else 2 * float(patch(scenario).b)
+
+
+def service_speeds(scenario: Scenario):
+    """The speed distribution (m/s) of ``[service]``; without peaks there, the operation speed
+    with the service scatter."""
+    from railwear.longterm.stepwise import ServiceSpeeds
+
+    service, speeds = scenario.service, scenario.operation.speeds
+    if service.speed_kmh is not None:
+        peaks = [v / 3.6 for v in service.speed_kmh]
+    elif isinstance(speeds, list):
+        raise ScenarioError("operation: the stepwise strategy takes one speed, or peaks in service.speed_kmh")
+    else:
+        peaks = [speeds]
+    return ServiceSpeeds(tuple(peaks), None if service.speed_weights is None else tuple(service.speed_weights),
+                         service.speed_scatter_kmh / 3.6)
+
+
+def stepwise(scenario: Scenario):
+    """Strategy 3 on the disk wheel of ``[disk_wheel]`` over the ``[service]`` speeds."""
+    from railwear.longterm.stepwise import FrozenGeometry, Stepwise
+
+    st, service = scenario.strategy, service_speeds(scenario)
+    frozen = FrozenGeometry(disk_wheel_model(scenario, service.mean), wear_law(scenario).beta, band_width(scenario),
+                            scenario.operation.life_distance_km * 1e3, service, revolutions=st.revolutions,
+                            transient_revolutions=st.transient_revolutions, samples=st.samples)
+    return Stepwise(frozen, st.step_limit_um * 1e-6, seed=scenario.service.seed)
+
+
+def direct(scenario: Scenario):
+    """Strategy 1 on the disk wheel of ``[disk_wheel]`` at the operation speed."""
+    from railwear.longterm.direct import Direct
+
+    st = scenario.strategy
+    return Direct(disk_wheel_model(scenario, scenario.operation.speeds), wear_law(scenario).beta, band_width(scenario),
+                  scenario.operation.life_distance_km * 1e3, st.acceleration_factor,
+                  updates_per_revolution=st.updates_per_revolution,
+                  transient_revolutions=st.transient_revolutions, n_save=scenario.solver.n_save)

@@ -117,9 +117,23 @@ class Initial(_Section):
 
 
 class Strategy(_Section):
-    """The long-term strategy: the evolution equation (paper eq. 4) or the Fourier technique."""
+    """The long-term strategy: the evolution equation (paper eq. 4), the Fourier technique, the
+    stepwise frozen geometry or the direct coupled integration on the disk wheel of
+    ``[disk_wheel]``.
 
-    kind: Literal["phenomenological", "fourier"] = "phenomenological"
+    Stepwise: ``step_limit_um`` the largest change of ``u`` per long-term step, ``samples`` draws
+    of phase and speed (from ``[service]``, seeded by ``service.seed``) of ``revolutions`` each
+    after ``transient_revolutions``. Direct: ``acceleration_factor`` on the wear coefficient
+    (>= 1), the surface updated ``updates_per_revolution`` times a revolution.
+    """
+
+    kind: Literal["phenomenological", "fourier", "stepwise", "direct"] = "phenomenological"
+    step_limit_um: Positive = 10.0
+    revolutions: Annotated[int, Field(ge=1, le=100000)] = 4
+    transient_revolutions: Annotated[int, Field(ge=0, le=100000)] = 4
+    samples: Annotated[int, Field(ge=2, le=100000)] = 8
+    acceleration_factor: Annotated[float, Field(ge=1, allow_inf_nan=False)] = 100.0
+    updates_per_revolution: Annotated[int, Field(ge=1, le=1000)] = 1
 
 
 class DiskWheel(_Section):
