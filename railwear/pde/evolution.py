@@ -128,6 +128,14 @@ def _fingerprint(u_start, speeds, form, *parameters):
     return digest.hexdigest()
 
 
+def _richardson_error(v, v_half, n):
+    """Per row: ``|u - u_half|_2 / 15`` over the out-of-round part ``|u - mean u|_2`` (floor 1 nm rms)."""
+    diff = np.fft.irfft(v - v_half, n, axis=-1)
+    dev = np.fft.irfft(np.concatenate([np.zeros_like(v[:, :1]), v[:, 1:]], axis=1), n, axis=-1)
+    scale = np.maximum(np.sqrt(np.mean(dev**2, axis=-1)), 1e-9)
+    return np.sqrt(np.mean(diff**2, axis=-1)) / 15 / scale
+
+
 class _Problem:
     """The discretised equation for one set of rows, with the step-dependent weights."""
 
@@ -207,7 +215,7 @@ class _Problem:
 def solve_evolution(
     u0, t_end, h, speed=0.0, epsilon=0.0, nu=0.0, *, dt=None, n_save=101, dealias=True,
     stabilisation=None, depth_limit=None, tail_tolerance=1e-3, max_halvings=6, progress=None,
-    checkpoint=None, resume=None, resolution_tolerance=3e-5,
+    checkpoint=None, resume=None, resolution_tolerance=3e-5, rtol=1e-4,
 ):
     """Solve the evolution equation from ``u0`` (m) over normed time ``[0, t_end]``.
 
@@ -222,7 +230,8 @@ def solve_evolution(
     epsilon, nu : float
         Regularisation ``-epsilon u_xxxx`` (rad⁴ per unit time) and ``+nu u_xxT`` (rad²).
     dt : float, optional
-        Time step; by default from the largest linear growth rate met at the start.
+        A fixed time step, which turns the step-size control off. By default the first step
+        comes from the largest linear growth rate met at the start and ``rtol`` controls it.
     n_save : int
         Number of equally spaced output times.
     dealias : bool
@@ -234,6 +243,13 @@ def solve_evolution(
     tail_tolerance : float
         The top quarter of the kept orders may grow to this fraction of the largest amplitude
         (and beyond 1000 times its start) before the run is declared ill-posed.
+    rtol : float or None
+        Step-size control (when ``dt`` is not given) for a relative error of about ``rtol`` in
+        the out-of-round deviation at the end. Each output interval is also taken with half the steps, and the difference
+        over 15 (Richardson, order 4) estimates its error; a row whose estimate passes its share
+        ``rtol * interval / t_end`` takes the interval again with twice the steps, one far below
+        it (1/32) halves them for the next. Costs half as much again per interval. ``None``
+        keeps the first step throughout.
     resolution_tolerance : float
         Where the top quarter of the kept orders reaches this fraction of the largest amplitude
         (and ten times its start) the run warns (:class:`~railwear.errors.ResolutionWarning`)
@@ -287,7 +303,14 @@ def solve_evolution(
     blowup = 1e6 * max(float(np.max(np.abs(v))), 1e-300)
     depth = float(depth_limit) if depth_limit is not None else 0.0
     fingerprint = _fingerprint(u_start, speeds, form, t_end, epsilon, nu, dt, n_save, dealias,
-                               stabilisation, depth_limit, tail_tolerance, max_halvings)
+                               stabilisation, depth_limit, tail_tolerance, max_halvings, rtol)
+    if dt is not None:
+        rtol = None
+    if rtol is not None:
+        if not rtol > 0:
+            raise ScenarioError(f"rtol must be > 0, got {rtol}")
+        steps = steps + steps % 2  # even, so that half the steps is exact
+        local_tolerance = rtol * interval / t_end  # errors of the intervals add up to about rtol
     active = np.ones(len(speeds), dtype=bool)
     stop_time = np.full(len(speeds), np.nan)
     saved, times = [v.copy()], [0.0]
@@ -300,12 +323,39 @@ def solve_evolution(
         saved, times = list(resume.saved), list(resume.times)
         tail_peak = resume.tail_peak.copy()
         problem.set_stabilisation(v, resume.stabilisation)
-    coefficients = etdrk4.etdrk4_coefficients(problem.L, interval / steps)
+    weights = {}
+
+    def weights_for(row_steps):
+        key = tuple(int(m) for m in row_steps)
+        if key not in weights:
+            weights[key] = etdrk4.etdrk4_coefficients(problem.L, interval / row_steps)
+        return weights[key]
+
     while j < n_save - 1:
         t0 = j * interval
-        v_start, active_start = v.copy(), active.copy()
-        status, _ = problem.advance(v, coefficients, steps, t0, active, stop_time, u_start,
+        v_start, active_start, stop_start = v.copy(), active.copy(), stop_time.copy()
+        status, _ = problem.advance(v, weights_for(steps), steps, t0, active, stop_time, u_start,
                                     depth, blowup)
+        if status == etdrk4.OK and rtol is not None:
+            half = steps // 2
+            v_half, active_half, stop_half = v_start.copy(), active_start.copy(), stop_start.copy()
+            status_half, _ = problem.advance(v_half, weights_for(half), half, t0, active_half, stop_half,
+                                             u_start, depth, blowup)
+            error = _richardson_error(v, v_half, n)
+            refine = active_start & ((error > local_tolerance) | (status_half != etdrk4.OK))
+            if np.any(refine):
+                v, active, stop_time = v_start, active_start, stop_start
+                steps = np.where(refine, 2 * steps, steps)
+                if not problem.compiled:  # the Python loop takes one step count for all rows
+                    steps[:] = steps.max()
+                if steps.max() > 2**24:
+                    raise NumericalInstabilityError(
+                        f"the step-size control cannot meet rtol = {rtol:g} near T = {t0:.4g}",
+                        last_good=np.fft.irfft(v, n, axis=-1), last_time=t0)
+                continue
+            coarsen = (error < local_tolerance / 32) & (steps % 4 == 0)
+            if problem.compiled or np.all(coarsen):
+                steps = np.where(coarsen, steps // 2, steps)
         if status != etdrk4.OK:
             v, active = v_start, active_start
             stop_time[active] = np.nan
@@ -316,7 +366,7 @@ def solve_evolution(
                     f"{interval / steps.max():.3g}", last_good=np.fft.irfft(v, n, axis=-1), last_time=t0)
             steps *= 2
             problem.set_stabilisation(v)
-            coefficients = etdrk4.etdrk4_coefficients(problem.L, interval / steps)
+            weights.clear()
             continue
         tail, amp = problem.tail(v)
         bad = (tail > tail_tolerance * amp) & (tail > TAIL_GROWTH * np.maximum(tail_ref, 1e-300))
