@@ -162,3 +162,19 @@ def stop_fraction(removed, increment, depth_limit):
     with np.errstate(divide="ignore", invalid="ignore"):
         f = np.where(increment > 0, room / increment, np.inf)
     return float(np.clip(np.min(f), 0.0, 1.0))
+
+
+def checkpoint_from_fields(fields):
+    """The checkpoint of strategy 1 or 3 from the plain fields of its ``.npz`` file (``None`` when
+    the fields belong to neither): the class is told by its field names."""
+    from dataclasses import fields as dataclass_fields
+
+    from railwear.longterm.direct import DirectCheckpoint
+    from railwear.longterm.stepwise import StepwiseCheckpoint
+
+    for cls in (StepwiseCheckpoint, DirectCheckpoint):
+        names = {f.name: f.type for f in dataclass_fields(cls)}
+        if set(fields) == set(names):
+            plain = {"str": str, "int": int, "float": float}
+            return cls(**{k: plain[names[k]](v) if names[k] in plain else np.asarray(v) for k, v in fields.items()})
+    return None

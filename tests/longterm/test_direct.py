@@ -82,3 +82,20 @@ def test_stops_at_the_normed_time(wheel_220, rough_u0):
     ds = Direct(wheel_220, **WEAR, acceleration=2e4, n_save=5).run(rough_u0, until=0.01)
     assert float(ds.time[-1]) == 0.01
     assert ds.sizes["time"] == 5
+
+
+def test_checkpoint_survives_an_npz_file(wheel_220, rough_u0, tmp_path):
+    from dataclasses import asdict
+
+    from railwear.longterm.direct import DirectCheckpoint
+    from railwear.longterm.wheel_runs import checkpoint_from_fields
+
+    strategy = Direct(wheel_220, **WEAR, acceleration=2e4, n_save=6)
+    saved = []
+    whole = strategy.run(rough_u0, until=1.0, depth_limit=20e-6, checkpoint=saved.append)
+    np.savez(tmp_path / "cp.npz", **asdict(saved[2]))
+    with np.load(tmp_path / "cp.npz") as data:
+        back = checkpoint_from_fields({k: data[k] for k in data.files})
+    assert isinstance(back, DirectCheckpoint)
+    resumed = strategy.run(rough_u0, until=1.0, depth_limit=20e-6, resume=back)
+    np.testing.assert_array_equal(resumed.u.values, whole.u.values)

@@ -104,3 +104,22 @@ def test_round_wheel_wears_at_the_steady_frictional_power(wheel_220):
     expected = WEAR["beta"] * power_per_metre / (2 * np.pi * m.radius * WEAR["band_width"]) * WEAR["life_distance"]
     np.testing.assert_allclose(rate, expected, rtol=1e-5)
     assert np.all(error < 1e-5 * expected)
+
+
+def test_checkpoints_survive_an_npz_file(wheel_220, rough_u0, tmp_path):
+    """Written as the result files write them (plain fields in an .npz), read back, resumed."""
+    from dataclasses import asdict
+
+    from railwear.longterm.wheel_runs import checkpoint_from_fields
+
+    strategy = Stepwise(frozen(wheel_220), 8e-6, seed=5)
+    whole = strategy.run(rough_u0, until=1.0, depth_limit=20e-6)
+    saved = []
+    strategy.run(rough_u0, until=1.0, depth_limit=20e-6, checkpoint=lambda cp: saved.append(cp))
+    np.savez(tmp_path / "cp.npz", **asdict(saved[1]))
+    with np.load(tmp_path / "cp.npz") as data:
+        back = checkpoint_from_fields({k: data[k] for k in data.files})
+    assert isinstance(back, type(saved[1]))
+    resumed = strategy.run(rough_u0, until=1.0, depth_limit=20e-6, resume=back)
+    np.testing.assert_array_equal(resumed.u.values, whole.u.values)
+    assert checkpoint_from_fields({"fingerprint": "x"}) is None
