@@ -3,7 +3,7 @@
 from railwear.scenario import load_scenario, scenario_hash, to_toml
 from railwear.scenario import build
 
-__all__ = ["load_scenario", "run"]
+__all__ = ["load_scenario", "run", "simulate"]
 
 
 def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.0, resume_path=None):
@@ -55,4 +55,48 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
         "Conventions": "CF-1.10",
         "life_distance_km": life_km,
     })
+    return ds
+
+
+def simulate(scenario, progress=None):
+    """Run a dynamics scenario (:mod:`railwear.scenario.dynamics`) at each of its speeds.
+
+    Wheelset and disk wheel: the time histories over (``speed``, ``time``). The bogie: the
+    limit-cycle amplitude of a ramp down over the speeds, with its Hopf point and nonlinear
+    critical speed (m/s) in the attributes.
+    """
+    import numpy as np
+    import xarray as xr
+
+    from railwear import __version__
+    from railwear.dynamics import critical_speed
+    from railwear.dynamics import simulate as run_model
+    from railwear.dynamics.bifurcation import ramp_down
+    from railwear.scenario import dynamics
+
+    if not isinstance(scenario, dynamics.DynamicsScenario):
+        scenario = dynamics.load_dynamics_scenario(scenario)
+    speeds = np.array(scenario.run.speeds_kmh) / 3.6
+    attrs = {"scenario_name": scenario.name, "railwear_version": __version__,
+             "title": f"railwear: {scenario.name}"}
+    if scenario.model.kind == "cooperrider":
+        descending = np.sort(speeds)[::-1]
+        branch = ramp_down(dynamics.build(scenario, descending[0]), descending)
+        hopf = critical_speed(dynamics.build(scenario, descending[0]))
+        ds = xr.Dataset(
+            {"amplitude": ("speed", branch.amplitudes, {"units": "m", "long_name": "limit-cycle amplitude of the leading wheelset"})},
+            coords={"speed": ("speed", branch.speeds, {"units": "m s-1", "long_name": "vehicle speed"})})
+        attrs.update(hopf_speed=float(hopf), nonlinear_critical_speed=float(branch.nonlinear_critical_speed))
+    else:
+        runs = []
+        for i, v in enumerate(speeds):
+            runs.append(run_model(dynamics.build(scenario, v), scenario.run.duration_s,
+                                  n_output=scenario.run.n_output))
+            if progress is not None:
+                progress((i + 1) / speeds.size)
+        ds = xr.concat(runs, dim="speed", combine_attrs="drop").assign_coords(
+            speed=("speed", speeds, {"units": "m s-1", "long_name": "vehicle speed"}))
+        if scenario.model.kind == "wheelset":
+            attrs["linear_critical_speed_kmh"] = float(critical_speed(dynamics.build(scenario, speeds[0]))) * 3.6
+    ds.attrs.update(attrs)
     return ds

@@ -342,7 +342,7 @@ def hunting_map(
     except ScenarioError as e:
         _fail(str(e), 2)
     results.write_netcdf(ds, output / "hunting.nc")
-    plots.save(plots.hunting(ds), output / "hunting.png")
+    plots.save(plots.hunting_map(ds), output / "hunting.png")
     v = ds.critical_speed.values
     low = np.unravel_index(np.argmin(v), v.shape)
     typer.echo(f"lowest critical speed {v[low]:.0f} km/h at conicity {lam[low[0]]:g}, "
@@ -351,22 +351,58 @@ def hunting_map(
 
 
 @app.command()
+def simulate(
+    scenario: Annotated[str, typer.Argument(help="dynamics scenario file or built-in name (railwear scenarios)")],
+    output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-dynamics"),
+):
+    """Run a short-time dynamics scenario: DIR/dynamics.nc and its figure (paper Figs 1-3, bifurcation)."""
+    from railwear import api, plots, results
+    from railwear.scenario import dynamics
+
+    try:
+        sc = dynamics.load_dynamics_scenario(scenario)
+        with _Warnings(), _Progress(f"railwear simulate {sc.name}") as progress:
+            ds = api.simulate(sc, progress=progress)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    except NumericalInstabilityError as e:
+        _fail(str(e), 1)
+    results.write_netcdf(ds, output / "dynamics.nc")
+    make, name = {"wheelset": (plots.lateral_motion, "hunting"), "disk_wheel": (plots.contact_path, "contact-path"),
+                  "cooperrider": (plots.bifurcation, "bifurcation")}[sc.model.kind]
+    plots.save(make(ds), output / f"{name}.png")
+    for key in ("linear_critical_speed_kmh",):
+        if key in ds.attrs:
+            typer.echo(f"linear critical speed {ds.attrs[key]:.1f} km/h")
+    if "hopf_speed" in ds.attrs:
+        typer.echo(f"Hopf point {ds.attrs['hopf_speed'] * 3.6:.1f} km/h, nonlinear critical speed "
+                   f"{ds.attrs['nonlinear_critical_speed'] * 3.6:.1f} km/h")
+    typer.echo(f"wrote {output / 'dynamics.nc'} and {output / (name + '.png')}")
+
+
+@app.command()
 def scenarios():
-    """List the built-in scenarios."""
+    """List the built-in scenarios (long-term runs, then short-time dynamics for 'simulate')."""
     from railwear.scenario import DEFAULT, builtin_names, load_scenario
+    from railwear.scenario import dynamics
 
     for name in builtin_names():
         sc = load_scenario(name)
         mark = " (default)" if name == DEFAULT else ""
         typer.echo(f"{name}{mark}: {sc.description}")
+    for name in dynamics.builtin_names():
+        typer.echo(f"{name} (railwear simulate): {dynamics.load_dynamics_scenario(name).description}")
 
 
 @app.command()
 def show(name: Annotated[str, typer.Argument(help="built-in scenario name")]):
     """Print a built-in scenario as TOML, to start a file from."""
-    from railwear.scenario import builtin_text
+    from railwear.scenario import builtin_text, dynamics
 
     try:
+        if name in dynamics.builtin_names():
+            typer.echo((dynamics._builtin_dir() / f"{name}.toml").read_text(), nl=False)
+            return
         typer.echo(builtin_text(name), nl=False)
     except ScenarioError as e:
         _fail(str(e), 2)

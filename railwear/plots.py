@@ -168,7 +168,7 @@ def forecast(ds):
     return fig
 
 
-def hunting(map_ds):
+def hunting_map(map_ds):
     """Linear critical speed over conicity and yaw stiffness, as a filled contour map."""
     fig, (ax,) = _figure(7, 4.5)
     speed = map_ds.critical_speed.transpose("yaw_stiffness", "conicity").values
@@ -180,4 +180,50 @@ def hunting(map_ds):
     fig.colorbar(mesh, ax=ax, label="critical speed (km/h)")
     ax.set(xlabel="equivalent conicity", ylabel="yaw stiffness (MN m/rad)",
            title="linear critical speed of hunting (blank: stable at every speed)")
+    return fig
+
+
+def lateral_motion(ds):
+    """Lateral displacement of the wheelset against distance, one panel per speed (paper Fig. 1)."""
+    speeds = np.atleast_1d(ds.speed.values)
+    fig, axes = _figure(7, min(1.6 + 1.8 * speeds.size, 12), speeds.size)
+    for ax, v in zip(axes, speeds):
+        d = ds.sel(speed=v) if ds.speed.ndim else ds
+        ax.plot(d.time.values * v, d.lateral_displacement.values * 1e3, lw=0.8)
+        ax.set(ylabel="y (mm)", title=f"{v * 3.6:g} km/h")
+    axes[-1].set_xlabel("distance (m)")
+    vc = ds.attrs.get("linear_critical_speed_kmh")
+    fig.suptitle("hunting of a wheelset" + (f" (linear critical speed {vc:.0f} km/h)" if vc else ""))
+    return fig
+
+
+def contact_path(ds):
+    """Contact point (paper Fig. 2) and frictional power (Fig. 3) over the wheel's angle and time."""
+    fig, (path, power) = _figure(7, 7, 2)
+    d = ds.isel(speed=0) if ds.speed.ndim else ds
+    angle = np.degrees(np.mod(d.contact_angle.values, 2 * np.pi))
+    t = d.time.values
+    path.scatter(angle, t, s=2)
+    path.set(xlabel="contact angle on the wheel (deg)", ylabel="time (s)", xlim=(0, 360),
+             title="contact point over angle and time")
+    mesh = power.scatter(angle, t, c=d.frictional_power.values, s=4, cmap="inferno")
+    fig.colorbar(mesh, ax=power, label="frictional power (W)")
+    power.set(xlabel="contact angle on the wheel (deg)", ylabel="time (s)", xlim=(0, 360),
+              title="frictional power over angle and time")
+    fig.suptitle(f"disk wheel at {float(np.atleast_1d(ds.speed.values)[0]) * 3.6:g} km/h")
+    return fig
+
+
+def bifurcation(ds):
+    """Limit-cycle amplitude against speed from the ramp down, with the Hopf point."""
+    fig, (ax,) = _figure(7, 4)
+    ax.plot(ds.speed.values * 3.6, ds.amplitude.values * 1e3, "o-")
+    hopf = ds.attrs.get("hopf_speed")
+    if hopf:
+        ax.axvline(hopf * 3.6, color="C3", ls="--", label=f"Hopf point {hopf * 3.6:.1f} km/h")
+    nonlinear = ds.attrs.get("nonlinear_critical_speed")
+    if nonlinear and np.isfinite(nonlinear):
+        ax.axvline(nonlinear * 3.6, color="k", ls=":", label=f"nonlinear critical {nonlinear * 3.6:.1f} km/h")
+    ax.set(xlabel="speed (km/h)", ylabel="limit-cycle amplitude (mm)", title="bifurcation diagram (ramp down)")
+    ax.legend(fontsize="small")
     return fig

@@ -1,0 +1,55 @@
+"""Short-time dynamics scenarios through the command line (paper Figs 1-3, the bogie's branch)."""
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from railwear import api
+from railwear.cli import app
+from railwear.scenario import dynamics
+
+
+def test_every_builtin_dynamics_scenario_runs_headless(tmp_path):
+    runner = CliRunner()
+    names = dynamics.builtin_names()
+    assert {"hunting", "contact-path", "cooperrider"} <= set(names)
+    for name in names:
+        out = tmp_path / name
+        r = runner.invoke(app, ["simulate", name, "-o", str(out)])
+        assert r.exit_code == 0, r.output
+        assert (out / "dynamics.nc").exists() and len(list(out.glob("*.png"))) == 1
+    assert "hunting (railwear simulate)" in runner.invoke(app, ["scenarios"]).output
+    assert "kind = \"wheelset\"" in runner.invoke(app, ["show", "hunting"]).output
+
+
+def test_hunting_below_and_above_the_critical_speed():
+    ds = api.simulate("hunting")
+    vc = ds.attrs["linear_critical_speed_kmh"]
+    slow, fast = ds.sel(speed=180 / 3.6), ds.sel(speed=280 / 3.6)
+    assert 180 < vc < 280
+    assert float(abs(slow.lateral_displacement[-500:]).max()) < 1e-3 * 1e-3  # decays from 1 mm
+    assert float(abs(fast.lateral_displacement[-500:]).max()) > 5e-3  # grows into the flange
+
+
+def test_contact_point_runs_round_the_wheel():
+    ds = api.simulate("contact-path").isel(speed=0)
+    v, r0 = float(ds.speed), 0.46
+    angle = np.unwrap(ds.contact_angle.values)
+    turned = angle[-1] - angle[0]
+    # x_c = x0 + V t / R0 + phi, with the wheel turning slightly faster under traction
+    assert turned == pytest.approx(v * float(ds.time[-1]) / r0, rel=1e-3)
+    assert float(ds.frictional_power.std()) > 0.01 * float(ds.frictional_power.mean())
+
+
+def test_bogie_branch_is_subcritical():
+    ds = api.simulate("cooperrider")
+    assert ds.attrs["hopf_speed"] * 3.6 == pytest.approx(172.3, abs=0.1)
+    assert ds.attrs["nonlinear_critical_speed"] < ds.attrs["hopf_speed"]
+
+
+def test_bad_dynamics_scenario(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(dynamics._builtin_dir().joinpath("hunting.toml").read_text().replace("mass = 1022.0", "mas = 1022.0"))
+    r = CliRunner().invoke(app, ["simulate", str(path), "-o", str(tmp_path / "o")])
+    assert r.exit_code == 2 and "mas" in r.output and len(r.output.strip().splitlines()) == 1
+    assert not (tmp_path / "o" / "dynamics.nc").exists()
