@@ -300,7 +300,8 @@ def solve_evolution(
     tail_start, amp_start = problem.tail(v)
     tail_ref = np.maximum(tail_start, tail_tolerance * amp_start)
     tail_peak = tail_start / np.maximum(amp_start, 1e-300)
-    blowup = 1e6 * max(float(np.max(np.abs(v))), 1e-300)
+    # A million times the largest out-of-round mode at the start, or than 1 nm of amplitude.
+    blowup = 1e6 * max(float(np.max(np.abs(v[:, 1:]))), 0.5e-9 * n)
     depth = float(depth_limit) if depth_limit is not None else 0.0
     fingerprint = _fingerprint(u_start, speeds, form, t_end, epsilon, nu, dt, n_save, dealias,
                                stabilisation, depth_limit, tail_tolerance, max_halvings, rtol)

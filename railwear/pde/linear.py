@@ -70,7 +70,7 @@ def stability_map(h, speeds, orders, epsilon=0.0, nu=0.0, amplitude=0.0):
     )
 
 
-def measured_growth_map(h, speeds, orders, epsilon=0.0, nu=0.0, amplitude=1e-9, duration=0.01,
+def measured_growth_map(h, speeds, orders, epsilon=0.0, nu=0.0, amplitude=1e-12, duration=0.01,
                         n_points=128, dt=None):
     """Growth rate of each polygon order measured in one short batched solve over the speeds.
 
