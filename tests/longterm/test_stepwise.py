@@ -123,3 +123,16 @@ def test_checkpoints_survive_an_npz_file(wheel_220, rough_u0, tmp_path):
     resumed = strategy.run(rough_u0, until=1.0, depth_limit=20e-6, resume=back)
     np.testing.assert_array_equal(resumed.u.values, whole.u.values)
     assert checkpoint_from_fields({"fingerprint": "x"}) is None
+
+
+def test_limiting_the_change_of_the_shape_converges_too(wheel_220, rough_u0):
+    """limit_on="shape": the uniform wear does not shorten the steps; fewer steps, same limit."""
+    f = frozen(wheel_220)
+    runs = {lim: Stepwise(f, lim, seed=3, limit_on="shape").run(rough_u0, until=1.0, depth_limit=40e-6)
+            for lim in (1e-6, 0.5e-6, 0.25e-6)}
+    fine_u = Stepwise(f, 1e-6, seed=3).run(rough_u0, until=1.0, depth_limit=40e-6)
+    errors = [shape_error(runs[lim].u.values[-1], fine_u.u.values[-1]) for lim in (1e-6, 0.5e-6)]
+    assert errors[0] > 1.5 * errors[1]
+    assert runs[1e-6].sizes["time"] < fine_u.sizes["time"]
+    with pytest.raises(ScenarioError, match="limit_on"):
+        Stepwise(f, 1e-6, limit_on="mean")
