@@ -381,6 +381,57 @@ def simulate(
 
 
 @app.command()
+def figure(
+    name: Annotated[str, typer.Argument(help="wear-surface (paper Fig. 4), teeth (Fig. 7) or fitted-h (Fig. 8)")],
+    scenario: Annotated[Optional[str], typer.Argument(help="a disk-wheel scenario (default: the built-in 'stepwise')")] = None,
+    output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-figures"),
+):
+    """One of the paper's frozen-geometry figures from a disk-wheel scenario ([disk_wheel], [initial])."""
+    import numpy as np
+
+    from railwear import api, plots
+    from railwear.scenario import build
+
+    if name not in ("wear-surface", "teeth", "fitted-h"):
+        _fail(f"figure: unknown name {name!r}; use wear-surface, teeth or fitted-h", 2)
+    try:
+        sc = api.load_scenario("stepwise" if scenario is None else scenario)
+        speed = build.service_speeds(sc).mean
+        model, beta, band = build.disk_wheel_model(sc, speed), build.wear_law(sc).beta, build.band_width(sc)
+        u0 = build.initial_state(sc)
+        if name == "teeth":
+            from railwear.longterm.stepwise import wear_intensity
+
+            fig = plots.wear_intensity(wear_intensity(model, u0, beta, band, turns=12))
+        elif name == "wear-surface":
+            from railwear.geometry.wear_surface import WearSurface
+            from railwear.longterm.direct import surface_wear
+
+            b = band / 2
+            surface = WearSurface(model.radius, 180, np.linspace(-2 * b, 2 * b, 17))
+            surface, _ = surface_wear(model, u0, beta, surface, turns=12, per_turn=720, lateral_half_axis=b,
+                                        acceleration=1e6)
+            fig = plots.wear_surface(surface, f"{sc.name}: depth after 12 turns, wear accelerated 1e6 times "
+                                              f"({speed * 3.6:g} km/h, Hertz footprint)")
+        else:
+            from railwear.longterm.fitting import fit_h, gather
+
+            stepwise = build.stepwise(sc)
+            rng = np.random.default_rng(sc.service.seed)
+            geometries = [u0 * scale for scale in (0.5, 1.0, 1.5, 2.0)]
+            frozen = stepwise.frozen
+            stats = gather(lambda v: frozen, [speed], geometries, rng)
+            fig = plots.fitted_relation(stats, fit_h(stats, degree=3, bins=16))
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    except NumericalInstabilityError as e:
+        _fail(str(e), 1)
+    path = output / f"{name}.png"
+    plots.save(fig, path)
+    typer.echo(f"wrote {path}")
+
+
+@app.command()
 def scenarios():
     """List the built-in scenarios (long-term runs, then short-time dynamics for 'simulate')."""
     from railwear.scenario import DEFAULT, builtin_names, load_scenario

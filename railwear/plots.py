@@ -227,3 +227,44 @@ def bifurcation(ds):
     ax.set(xlabel="speed (km/h)", ylabel="limit-cycle amplitude (mm)", title="bifurcation diagram (ramp down)")
     ax.legend(fontsize="small")
     return fig
+
+
+def wear_intensity(ds):
+    """Wear intensity against time at a fixed position on the wheel (paper Fig. 7)."""
+    fig, (ax,) = _figure(7, 3.5)
+    ax.plot(ds.time.values, ds.wear_intensity.values * 1e6 * 3600, lw=0.8)
+    teeth = ds.tooth_depth.values * 1e12
+    ax.set(xlabel="time (s)", ylabel="depth rate (µm/h)",
+           title=f"wear intensity at {np.degrees(ds.attrs['position_rad']):g} deg over {teeth.size} passes "
+                 f"({float(ds.attrs['speed']) * 3.6:g} km/h); teeth {teeth.min():.3g}-{teeth.max():.3g} pm each")
+    return fig
+
+
+def fitted_relation(stats, fit):
+    """Mean wear rate against the local curvature with the fitted ``h`` (paper Fig. 8)."""
+    fig, (ax,) = _figure(7, 4.5)
+    life = 1e3  # m per normed life -> mm
+    for i, v in enumerate(np.atleast_1d(stats.speed.values)):
+        colour = f"C{i % 10}"
+        s = stats.curvature.values[i].ravel()
+        ax.scatter(s * 1e3, stats.rate.values[i].ravel() * life, s=3, alpha=0.25, color=colour)
+        ax.errorbar(fit.bin_curvature[i] * 1e3, fit.bin_rate[i] * life, yerr=fit.bin_error[i] * life, fmt="o",
+                    ms=4, color=colour, label=f"{v * 3.6:g} km/h, bin means (reduced chi² {fit.chi2[i]:.2f})")
+        grid = np.linspace(s.min(), s.max(), 200)
+        ax.plot(grid * 1e3, fit(grid, i) * life, color=colour, lw=1.5)
+    ax.set(xlabel="curvature u_xx (mm/rad²)", ylabel="u_T (mm per life)",
+           title="frozen-geometry wear against the local curvature, with the fitted h")
+    ax.legend(fontsize="small")
+    return fig
+
+
+def wear_surface(surface, title="wear surface"):
+    """Removed depth over the angle x lateral grid of a :class:`~railwear.geometry.WearSurface`
+    (paper Fig. 4)."""
+    fig, (ax,) = _figure(7, 3.5)
+    edges_x = np.degrees(np.linspace(0, 2 * np.pi, surface.n_angle + 1))
+    mesh = ax.pcolormesh(edges_x, surface.lateral_edges * 1e3, surface.depth.T * 1e6, cmap="viridis",
+                         edgecolors="w", linewidth=0.1 if surface.n_angle <= 180 else 0)
+    fig.colorbar(mesh, ax=ax, label="removed depth (µm)")
+    ax.set(xlabel="angle round the wheel (deg)", ylabel="lateral position (mm)", title=title)
+    return fig

@@ -148,3 +148,25 @@ class Direct(WheelWear):
                      "updates_per_revolution": self.updates_per_revolution,
                      "wall_seconds": _time.perf_counter() - started})
         return describe(ds)
+
+
+def surface_wear(model, u, beta, surface, turns=12, per_turn=4000, lateral_half_axis=None, footprint="hertz",
+                 acceleration=1.0):
+    """Wear a :class:`~railwear.geometry.wear_surface.WearSurface` (paper Fig. 4) with the disk
+    wheel ``model`` running ``turns`` revolutions over the frozen ``u`` (m): the frictional energy
+    of each output interval, times ``acceleration β``, is deposited with the Hertz (or another)
+    footprint of half-lengths ``a`` (the model's) and ``lateral_half_axis`` ``b`` (m) at the
+    contact angle, on the centre line of the tread. Returns the surface and the volume (m³)."""
+    from railwear.dynamics import simulate
+
+    u = np.asarray(u, float)
+    shape = u - u.mean()
+    m = replace(model, radius_deviation=shape, initial_lift=start_lift(model, shape, model.initial_angle))
+    ds = simulate(m, turns * wheel_turn(m), n_output=int(turns * per_turn) + 1)
+    t, xc, power = ds.time.values, ds.contact_angle.values, ds.frictional_power.values
+    energy = 0.5 * (power[1:] + power[:-1]) * np.diff(t)
+    angle = 0.5 * (xc[1:] + xc[:-1])
+    b = m.patch_half_length if lateral_half_axis is None else lateral_half_axis
+    volume = acceleration * beta * energy
+    surface.deposit(volume, angle, 0.0, m.patch_half_length, b, footprint=footprint)
+    return surface, float(volume.sum())

@@ -231,3 +231,40 @@ class Stepwise:
                      "step_limit_on": self.limit_on,
                      "wall_seconds": _time.perf_counter() - started}, error)
         return describe(ds)
+
+
+def wear_intensity(model, u, beta, band_width, angle=0.0, turns=12, per_turn=20000, phase=0.0):
+    """Depth rate (m/s) at the fixed wheel position ``angle`` (rad) over ``turns`` revolutions of
+    the disk wheel ``model`` over the frozen ``u`` (m), paper Fig. 7: ``β P(t) / (2 a w)`` while
+    the patch (half-length ``a``, uniform) covers the position, else 0. Also the integral of each
+    "tooth" (m of depth per pass; the first and last may be partial) and the contact angle; starts
+    at contact angle ``phase``. ``per_turn`` output times a revolution resolve a pass by about
+    ``per_turn a / (π R0)`` samples (the teeth to about the inverse of that)."""
+    from dataclasses import replace
+
+    import xarray as xr
+
+    from railwear.dynamics import simulate
+
+    u = np.asarray(u, float)
+    shape = u - u.mean()
+    m = replace(model, radius_deviation=shape, initial_angle=float(phase),
+                initial_lift=start_lift(model, shape, phase))
+    duration = turns * wheel_turn(m)
+    ds = simulate(m, duration, n_output=int(turns * per_turn) + 1)
+    t, xc, power = ds.time.values, ds.contact_angle.values, ds.frictional_power.values
+    half = m.patch_half_length / m.radius
+    distance = np.angle(np.exp(1j * (xc - angle)))
+    covered = np.abs(distance) <= half
+    rate = np.where(covered, beta * power / (2 * m.patch_half_length * band_width), 0.0)
+    # teeth: one per pass, where the patch leaves the position
+    passes = np.cumsum(np.diff(covered.astype(int), prepend=0) == 1) * covered
+    dt = np.gradient(t)
+    teeth = np.array([np.sum(rate[passes == k] * dt[passes == k]) for k in range(1, passes.max() + 1)])
+    return xr.Dataset(
+        {"wear_intensity": ("time", rate, {"units": "m s-1", "long_name": f"depth rate at {np.degrees(angle):g} deg"}),
+         "contact_angle": ("time", np.mod(xc, 2 * np.pi), {"units": "rad", "long_name": "contact angle on the wheel"}),
+         "frictional_power": ("time", power, {"units": "W", "long_name": "frictional power in the contact"}),
+         "tooth_depth": ("tooth", teeth, {"units": "m", "long_name": "depth worn at the position per pass"})},
+        coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
+        attrs={"position_rad": float(angle), "speed": m.speed})

@@ -136,3 +136,26 @@ def test_limiting_the_change_of_the_shape_converges_too(wheel_220, rough_u0):
     assert runs[1e-6].sizes["time"] < fine_u.sizes["time"]
     with pytest.raises(ScenarioError, match="limit_on"):
         Stepwise(f, 1e-6, limit_on="mean")
+
+
+def test_wear_intensity_teeth_sum_to_the_cell_wear(wheel_220, rough_u0):
+    """Paper Fig. 7: one tooth is one pass of the patch over a point; averaged over the points of
+    a cell, the teeth give the depth per turn the frozen statistics give that cell."""
+    from railwear.longterm.stepwise import wear_intensity
+
+    turns, dx = 8, 2 * np.pi / rough_u0.size
+    per_point = []
+    for k in range(8):
+        ds = wear_intensity(wheel_220, rough_u0, WEAR["beta"], WEAR["band_width"], angle=(k + 0.5) / 8 * dx - dx / 2,
+                            turns=turns)
+        assert np.all(ds.wear_intensity.values >= 0)
+        teeth = ds.tooth_depth.values[4:turns - 1]
+        # the same wheel each turn: after the transient the teeth repeat
+        assert np.std(teeth) < 0.02 * np.mean(teeth)
+        per_point.append(np.mean(teeth))
+    f = frozen(wheel_220, revolutions=4, transient_revolutions=4, samples=2)
+    rate, _, _ = f.statistics(rough_u0, np.random.default_rng(0))
+    per_turn = rate[0] / WEAR["life_distance"] * 2 * np.pi * wheel_220.radius
+    assert np.mean(per_point) == pytest.approx(per_turn, rel=0.01)
+    # the point values differ across the cell on this rough wheel
+    assert np.ptp(per_point) > 0.01 * per_turn
