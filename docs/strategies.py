@@ -209,8 +209,38 @@ def main():
         w(line)
     w("")
     w(WHY)
+    w(USAGE)
     out.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
+
+
+USAGE = """## Running the strategies
+
+From scenario files (`railwear show stepwise` prints the built-in one to start from):
+
+```toml
+[strategy]
+kind = "stepwise"          # or "direct", "fourier", "phenomenological"
+step_limit_um = 25.0       # stepwise: largest change of u per long-term step (> 0)
+samples = 2                # stepwise: draws of phase and speed per step (>= 2)
+revolutions = 3            # stepwise: revolutions gathered per draw, after
+transient_revolutions = 3  #   these (direct: before the coupling starts)
+acceleration_factor = 2e4  # direct: factor on the wear coefficient (>= 1)
+updates_per_revolution = 1 # direct: surface updates per revolution
+
+[service]                  # stepwise: the speed distribution, seeded by seed
+speed_kmh = [60.0, 70.0, 80.0]
+speed_weights = [0.25, 0.5, 0.25]
+speed_scatter_kmh = 3.0
+seed = 0
+```
+
+`railwear run stepwise`, `railwear run direct`; the frozen-geometry figures (paper Figs 4, 7, 8):
+`railwear figure wear-surface | teeth | fitted-h [SCENARIO]`. In Python:
+`railwear.longterm.stepwise.Stepwise(FrozenGeometry(...), step_limit).run(u0, until, depth_limit)`,
+`railwear.longterm.direct.Direct(model, beta, band_width, life_distance, acceleration).run(...)`,
+`railwear.longterm.fitting.fit_h(gather(...)).table` for the phenomenological strategy.
+"""
 
 
 WHY = """## Why
