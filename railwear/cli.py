@@ -414,14 +414,7 @@ def figure(
             fig = plots.wear_surface(surface, f"{sc.name}: depth after 12 turns, wear accelerated 1e6 times "
                                               f"({speed * 3.6:g} km/h, Hertz footprint)")
         else:
-            from railwear.longterm.fitting import fit_h, gather
-
-            stepwise = build.stepwise(sc)
-            rng = np.random.default_rng(sc.service.seed)
-            geometries = [u0 * scale for scale in (0.5, 1.0, 1.5, 2.0)]
-            frozen = stepwise.frozen
-            stats = gather(lambda v: frozen, [speed], geometries, rng)
-            fig = plots.fitted_relation(stats, fit_h(stats, degree=3, bins=16))
+            fig = plots.fitted_relation(*build.fitted_h(sc, [speed]))
     except ScenarioError as e:
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
@@ -429,6 +422,33 @@ def figure(
     path = output / f"{name}.png"
     plots.save(fig, path)
     typer.echo(f"wrote {path}")
+
+
+@app.command()
+def fit(
+    scenario: Annotated[Optional[str], typer.Argument(help="a disk-wheel scenario (default: the built-in 'stepwise')")] = None,
+    speeds: Annotated[Optional[str], typer.Option(help="speeds in km/h, A:B:STEP or list (default: the [service] peaks)")] = None,
+    output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-fit"),
+):
+    """Strategy 4: fit h(u_xx, v) to frozen-geometry statistics (paper Fig. 8) and write it as a
+    scenario with the table form: DIR/fitted-h.toml (run it with 'railwear run') and fitted-h.png."""
+    from railwear import api, plots, results
+    from railwear.scenario import build, to_toml
+
+    v = None if speeds is None else _parse_range(speeds, "--speeds") / 3.6
+    try:
+        sc = api.load_scenario("stepwise" if scenario is None else scenario)
+        stats, fitted = build.fitted_h(sc, v)
+        out = build.with_fitted_h(sc, fitted)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    except NumericalInstabilityError as e:
+        _fail(str(e), 1)
+    results.write_text(to_toml(out), output / "fitted-h.toml")
+    plots.save(plots.fitted_relation(stats, fitted), output / "fitted-h.png")
+    for speed, chi2 in zip(stats.speed.values, fitted.chi2):
+        typer.echo(f"{speed * 3.6:g} km/h: reduced chi2 {chi2:.2f} on the curvature bins")
+    typer.echo(f"wrote {output / 'fitted-h.toml'} and {output / 'fitted-h.png'}")
 
 
 @app.command()

@@ -144,3 +144,35 @@ def direct(scenario: Scenario):
                   scenario.operation.life_distance_km * 1e3, st.acceleration_factor,
                   updates_per_revolution=st.updates_per_revolution,
                   transient_revolutions=st.transient_revolutions, n_save=scenario.solver.n_save)
+
+
+def fitted_h(scenario: Scenario, speeds=None, scales=(0.5, 1.0, 1.5, 2.0), degree=3, bins=16):
+    """Strategy 4's fit from the scenario's disk wheel: frozen-geometry statistics at ``speeds``
+    (m/s; default the ``[service]`` peaks, else the operation speed), each with the service
+    scatter, over the initial wheel scaled by ``scales``; returns ``(statistics, fit)``."""
+    from dataclasses import replace
+
+    from railwear.longterm.fitting import fit_h, gather
+    from railwear.longterm.stepwise import ServiceSpeeds
+
+    frozen = stepwise(scenario).frozen
+    speeds = np.atleast_1d(service_speeds(scenario).peaks if speeds is None else speeds).astype(float)
+    scatter = frozen.service.scatter
+    u0 = initial_state(scenario)
+    stats = gather(lambda v: replace(frozen, model=disk_wheel_model(scenario, v), service=ServiceSpeeds((v,), None, scatter)),
+                   np.sort(speeds), [u0 * s for s in scales], np.random.default_rng(scenario.service.seed))
+    return stats, fit_h(stats, degree=degree, bins=bins)
+
+
+def with_fitted_h(scenario: Scenario, fit):
+    """The scenario with the fitted ``h`` as its ``[wear_rate]`` table and the phenomenological
+    strategy."""
+    table = fit.table
+    rate = table.rate.tolist()
+    wear_rate = scenario.wear_rate.model_copy(update={
+        "form": "table", "curvature_m": table.curvature.tolist(), "rate_m": rate,
+        "table_speed_kmh": None if table.speed is None else (table.speed * 3.6).tolist()})
+    strategy = scenario.strategy.model_copy(update={"kind": "phenomenological"})
+    return scenario.model_copy(update={"wear_rate": wear_rate, "strategy": strategy,
+                                       "name": f"{scenario.name}-fitted",
+                                       "description": f"h fitted to the frozen-geometry statistics of '{scenario.name}'"})

@@ -56,3 +56,22 @@ def test_cli_runs_the_stepwise_scenario(tmp_path):
     result = CliRunner().invoke(app, ["run", "stepwise", "-o", str(tmp_path)])
     assert result.exit_code == 0, result.output
     assert (tmp_path / "summary.txt").read_text().count("dominant order 8") == 1
+
+
+def test_fit_writes_a_phenomenological_scenario_that_runs(tmp_path):
+    """Strategy 4 end to end: frozen-geometry statistics at two speeds, the fitted table in a
+    scenario, and the evolution equation run from it to 1 mm."""
+    from railwear.pde import Table
+    from railwear.scenario import build, load_scenario
+
+    result = CliRunner().invoke(app, ["fit", "stepwise", "--speeds", "60,80", "-o", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    sc = load_scenario(tmp_path / "fitted-h.toml")
+    assert sc.strategy.kind == "phenomenological" and sc.wear_rate.form == "table"
+    h = build.wear_rate(sc)
+    assert isinstance(h, Table) and h.rate.shape == (33, 2)
+    np.testing.assert_allclose(h.speed * 3.6, [60.0, 80.0])
+    ds = railwear.run(sc)
+    assert float(ds.removed_depth[-1]) == pytest.approx(1e-3, rel=1e-9)
+    # wear everywhere: the table's rates are negative over the fitted range
+    assert np.all(h.rate < 0)
