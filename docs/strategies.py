@@ -236,7 +236,9 @@ seed = 0
 ```
 
 `railwear run stepwise`, `railwear run direct`; the frozen-geometry figures (paper Figs 4, 7, 8):
-`railwear figure wear-surface | teeth | fitted-h [SCENARIO]`. In Python:
+`railwear figure wear-surface | teeth | fitted-h [SCENARIO]`. Strategy 4 from a scenario:
+`railwear fit [SCENARIO] --speeds 60,70,80 -o DIR` writes `DIR/fitted-h.toml` (the scenario with
+the fitted table and the phenomenological strategy) for `railwear run`. In Python:
 `railwear.longterm.stepwise.Stepwise(FrozenGeometry(...), step_limit).run(u0, until, depth_limit)`,
 `railwear.longterm.direct.Direct(model, beta, band_width, life_distance, acceleration).run(...)`,
 `railwear.longterm.fitting.fit_h(gather(...)).table` for the phenomenological strategy.
