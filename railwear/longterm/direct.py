@@ -26,7 +26,7 @@ import numpy as np
 from railwear.errors import ScenarioError
 from railwear.longterm.wheel_runs import (Integration, WheelWear, advance, checked_start,
                                           result, depth_per_energy, fingerprint, start_lift,
-                                          stop_fraction, surface, wheel_turn)
+                                          stop_fraction, wheel_turn)
 
 
 @dataclass(frozen=True)
@@ -114,7 +114,7 @@ class Direct(WheelWear):
                 raise ScenarioError(f"direct: {self.max_revolutions} revolutions did not reach the end; "
                                     "raise the acceleration factor")
             energy = np.zeros(u0.size)
-            y, n = advance(model, p, surface(u - u.mean()), y, t, t + segment, energy, self.integration)
+            y, n = advance(model, p, model.surface_for(u - u.mean()), y, t, t + segment, energy, self.integration)
             nfev += n
             t += segment
             j += 1

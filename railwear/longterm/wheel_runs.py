@@ -24,8 +24,9 @@ from railwear.errors import NumericalInstabilityError, ScenarioError
 
 
 def surface(u):
-    """The dynamics' surface array for ``u`` (m) at the nodes ``2π j / n``: ``u`` followed by its
-    cumulative trapezoidal integral (the layout of ``DiskWheelModel.surface``)."""
+    """``u`` (m) at the nodes ``2π j / n`` followed by its cumulative trapezoidal integral: the
+    part of the dynamics' surface array the contact filter reads (a model's full array, with its
+    creep curve, is ``DiskWheelModel.surface_for``)."""
     u = np.asarray(u, float)
     dx = 2.0 * math.pi / u.size
     return np.concatenate([u, [0.0], np.cumsum(0.5 * dx * (u + np.roll(u, -1)))])

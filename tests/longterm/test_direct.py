@@ -99,3 +99,19 @@ def test_checkpoint_survives_an_npz_file(wheel_220, rough_u0, tmp_path):
     assert isinstance(back, DirectCheckpoint)
     resumed = strategy.run(rough_u0, until=1.0, depth_limit=20e-6, resume=back)
     np.testing.assert_array_equal(resumed.u.values, whole.u.values)
+
+
+def test_the_fastsim_creep_law_is_carried_through_the_surface_updates(wheel_220, rough_u0):
+    """With FASTSIM's creep curve in the kernel's surface array, the direct run's updated
+    surfaces keep it: direct and stepwise agree as they do for the cubic law."""
+    from dataclasses import replace
+
+    wheel = replace(wheel_220, creep_law="fastsim")
+    direct = Direct(wheel, **WEAR, acceleration=5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
+    frozen = FrozenGeometry(wheel, **WEAR, service=ServiceSpeeds((wheel.speed,)), revolutions=4,
+                            transient_revolutions=4, samples=2)
+    step = Stepwise(frozen, 2e-6).run(rough_u0, until=1.0, depth_limit=20e-6)
+    assert shape_error(step.u.values[-1], direct.u.values[-1]) < 3e-3
+    cubic = Direct(wheel_220, **WEAR, acceleration=5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
+    # the creep law matters: the life to the depth differs from the cubic law's
+    assert abs(float(direct.stop_time) / float(cubic.stop_time) - 1) > 1e-3
