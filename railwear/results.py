@@ -120,6 +120,11 @@ def read_checkpoint(path):
     except (OSError, ValueError) as e:
         raise ScenarioError(f"checkpoint {path}: cannot be read ({e})") from None
     toml, digest = str(fields.pop("scenario")), str(fields.pop("scenario_hash"))
+    from railwear.longterm.wheel_runs import checkpoint_from_fields
+
+    wheel_run = checkpoint_from_fields(fields)  # stepwise or direct, told by their fields
+    if wheel_run is not None:
+        return wheel_run, toml, digest
     scalars = {"fingerprint": str, "intervals": int, "halvings": int}
     for key, kind in scalars.items():
         fields[key] = kind(fields[key])
