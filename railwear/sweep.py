@@ -203,7 +203,7 @@ class SerialExecutor:
         return iter(futures)
 
     def close(self):
-        pass
+        """Nothing to release: the points ran in this process."""
 
 
 class DaskExecutor:
