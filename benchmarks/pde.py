@@ -117,8 +117,8 @@ def machine():
                 if line.startswith("model name"):
                     cpu = line.split(":", 1)[1].strip()
                     break
-    except OSError:
-        pass
+    except OSError:  # no /proc (not Linux): keep platform.processor()
+        cpu = cpu
     usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     return cpu, os.cpu_count(), usable, load

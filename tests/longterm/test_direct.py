@@ -58,7 +58,7 @@ def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0, runs):
     saved = []
 
     class Killed(Exception):
-        pass
+        """Stands for the process being killed."""
 
     def kill(cp):
         saved.append(cp)

@@ -57,7 +57,7 @@ def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0):
     saved = []
 
     class Killed(Exception):
-        pass
+        """Stands for the process being killed."""
 
     def kill_after_two(cp):
         saved.append(cp)
