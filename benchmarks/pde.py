@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import os
 import platform
+from pathlib import Path
 import shutil
 import subprocess
 import sys
@@ -111,14 +112,11 @@ def cheapest(settings, run, error):
 
 def machine():
     cpu = platform.processor() or "unknown"
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:  # no /proc (not Linux): keep platform.processor()
-        cpu = cpu
+    info = Path("/proc/cpuinfo")  # Linux only; elsewhere platform.processor() stands
+    if info.is_file():
+        names = [line.split(":", 1)[1].strip() for line in info.read_text().splitlines()
+                 if line.startswith("model name")]
+        cpu = names[0] if names else cpu
     usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     return cpu, os.cpu_count(), usable, load
