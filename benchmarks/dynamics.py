@@ -3,9 +3,14 @@
 The same wheelset hunting case (1.2 times the linear critical speed, flange dead band and
 saturation, 10 s) to the same tolerances with:
 
-- railwear's compiled Dormand-Prince 5(4) and Rosenbrock 2(3) (integrator loop and right-hand side
-  compiled together);
-- ``solve_ivp`` with RK45 and LSODA calling the same compiled right-hand side from Python.
+- railwear's compiled Dormand-Prince 5(4), Dormand-Prince 8(5,3) and Rosenbrock 2(3) (integrator
+  loop and right-hand side compiled together);
+- ``solve_ivp`` with RK45, DOP853 and LSODA calling the same compiled right-hand side from Python.
+
+Every solver's error is the largest deviation of the lateral displacement from a reference run at
+rtol 1e-13 (compiled DOP853, checked against ``solve_ivp`` DOP853). Besides the table at equal
+tolerance, a tolerance sweep gives each solver's time against its error, and the times at equal
+error (interpolated in log-log) give the fair ratio: the time to reach the same accuracy.
 
 Then one wheel revolution of the disk wheel with a 512-cell radius deviation. Prints times, right-
 hand-side evaluations per second and the ratios. Run: ``python benchmarks/dynamics.py``.
@@ -24,6 +29,10 @@ from railwear.dynamics import kernels
 
 RTOL, ATOL = 1e-8, 1e-10
 T_END = 10.0
+SWEEP_RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10)  # atol = rtol / 100
+TARGET_ERRORS = (1e-6, 1e-7, 1e-8)  # [m]
+COMPILED = (("railwear dopri5", integ.METHOD_DOPRI5), ("railwear dop853", integ.METHOD_DOP853),
+            ("railwear rosenbrock", integ.METHOD_ROSENBROCK))
 WHEELSET = dict(mass=1022.0, yaw_inertia=678.0, lateral_stiffness=1.823e6, yaw_stiffness=2.0e6, f11=6.4e6,
                 f22=5.9e6, half_gauge=0.7163, rolling_radius=0.4572, conicity=0.05)
 
@@ -44,41 +53,69 @@ def wheelset_case():
                           friction_coefficient=0.3, wheel_load=50e3, initial_lateral_displacement=1e-3)
     p, surf, y0 = model.params(), model.surface(), model.initial_state()
     t_eval = np.linspace(0.0, T_END, 2001)
-    rows = []
 
-    def compiled(method):
-        out = integ.integrate(model.kind, p, surf, y0, 0.0, T_END, RTOL, ATOL, method, 0.0, np.inf, 10**8, t_eval, 1,
+    def compiled(method, rtol, atol):
+        out = integ.integrate(model.kind, p, surf, y0, 0.0, T_END, rtol, atol, method, 0.0, np.inf, 10**8, t_eval, 1,
                               False, 1e6, np.zeros(0))
         return out[1][: out[2]], int(out[6][integ.STAT_NFEV])
-
-    t0 = time.perf_counter()
-    compiled(integ.METHOD_DOPRI5)
-    compiled(integ.METHOD_ROSENBROCK)
-    first_call = time.perf_counter() - t0
-
-    for name, method in (("railwear dopri5", integ.METHOD_DOPRI5), ("railwear rosenbrock", integ.METHOD_ROSENBROCK)):
-        wall, (ys, nfev) = best_of(5, lambda: compiled(method))
-        rows.append((name, wall, nfev, ys))
 
     def rhs(t, y):
         out = np.empty(4)
         kernels.rhs(model.kind, t, y, p, surf, out)
         return out
 
-    for method in ("RK45", "LSODA"):
-        wall, sol = best_of(2, lambda: solve_ivp(rhs, (0.0, T_END), y0, method=method, t_eval=t_eval, rtol=RTOL,
-                                                 atol=ATOL))
-        rows.append((f"solve_ivp {method}", wall, int(sol.nfev), sol.y.T))
+    def scipy_run(method, rtol, atol):
+        sol = solve_ivp(rhs, (0.0, T_END), y0, method=method, t_eval=t_eval, rtol=rtol, atol=atol)
+        return sol.y.T, int(sol.nfev)
 
-    reference = rows[0][3]
-    print(f"Wheelset hunting at {model.speed:.1f} m/s (1.2 Vc), {T_END:g} s, rtol {RTOL:g}, atol {ATOL:g}")
-    print(f"(first calls incl. loading the compiled cache or compiling: {first_call:.2f} s)")
+    solvers = [(name, lambda r, a, m=method: compiled(m, r, a), 5) for name, method in COMPILED]
+    solvers += [(f"solve_ivp {m}", lambda r, a, m=m: scipy_run(m, r, a), 2) for m in ("RK45", "DOP853", "LSODA")]
+
+    t0 = time.perf_counter()
+    for _, method in COMPILED:
+        compiled(method, RTOL, ATOL)
+    first_call = time.perf_counter() - t0
+    reference = compiled(integ.METHOD_DOP853, 1e-13, 1e-15)[0][:, 0]
+    check = np.max(np.abs(scipy_run("DOP853", 1e-13, 1e-15)[0][:, 0] - reference))
+
+    def measure(run, repeats, rtol, atol):
+        wall, (ys, nfev) = best_of(repeats, lambda: run(rtol, atol))
+        return wall, nfev, float(np.max(np.abs(ys[:, 0] - reference)))
+
+    print(f"Wheelset hunting at {model.speed:.1f} m/s (1.2 Vc), {T_END:g} s, output at {t_eval.size} times")
+    print(f"(first calls incl. loading the compiled cache or compiling: {first_call:.2f} s; reference: compiled "
+          f"DOP853 at rtol 1e-13, {check:.1e} m from solve_ivp DOP853 at rtol 1e-13)")
+    print(f"\nEqual tolerance, rtol {RTOL:g}, atol {ATOL:g}:")
     print(f"{'solver':<22}{'time [s]':>11}{'RHS evals':>11}{'evals/s':>12}{'time / dopri5':>15}{'max |dy| [m]':>14}")
-    for name, wall, nfev, ys in rows:
-        dev = np.max(np.abs(ys[:, 0] - reference[:, 0]))
+    rows = [(name, *measure(run, repeats, RTOL, ATOL)) for name, run, repeats in solvers]
+    for name, wall, nfev, dev in rows:
         print(f"{name:<22}{wall:>11.4f}{nfev:>11d}{nfev / wall:>12.3e}{wall / rows[0][1]:>15.1f}{dev:>14.2e}")
     dae_case(model, t_eval, rows[0][1])
+    equal_accuracy([(name, run, repeats) for name, run, repeats in solvers if "rosenbrock" not in name], measure)
     return rows
+
+
+def equal_accuracy(solvers, measure):
+    """Tolerance sweep (``SWEEP_RTOLS``) of each solver; times at the ``TARGET_ERRORS`` by log-log
+    interpolation of time against error (where the sweep brackets the target)."""
+    print(f"\nTolerance sweep, atol = rtol / 100: time [s] / max |dy| [m]")
+    print(f"{'solver':<22}" + "".join(f"{f'rtol {r:g}':>20}" for r in SWEEP_RTOLS))
+    at_target = {}
+    for name, run, repeats in solvers:
+        sweep = [measure(run, repeats, rtol, rtol / 100.0) for rtol in SWEEP_RTOLS]
+        print(f"{name:<22}" + "".join(f"{f'{w:.4f} / {e:.1e}':>20}" for w, _, e in sweep))
+        errors = np.array([e for _, _, e in sweep])
+        walls = np.array([w for w, _, _ in sweep])
+        order = np.argsort(errors)
+        at_target[name] = [float(np.exp(np.interp(np.log(target), np.log(errors[order]), np.log(walls[order]),
+                                                  left=np.nan, right=np.nan))) for target in TARGET_ERRORS]
+    print("\nTime [s] to reach the same error (interpolated; - where the sweep does not reach it), and the ratio "
+          "to the fastest compiled solver:")
+    print(f"{'solver':<22}" + "".join(f"{f'error {e:g} m':>22}" for e in TARGET_ERRORS))
+    best = np.nanmin([at_target[name] for name in at_target if name.startswith("railwear")], axis=0)
+    for name, times in at_target.items():
+        cells = [f"{'-':>22}" if np.isnan(w) else f"{f'{w:.4f} ({w / b:.1f}x)':>22}" for w, b in zip(times, best)]
+        print(f"{name:<22}" + "".join(cells))
 
 
 def dae_case(model, t_eval, reference_time, roll_inertia=700.0):
@@ -124,17 +161,19 @@ def disk_wheel_case():
     t_end = revolutions * 2 * np.pi * model.radius / model.speed
     p, surf, y0 = model.params(), model.surface(), model.initial_state()
     print(f"\nDisk wheel, 512-cell radius deviation, P2 track, {model.speed:g} m/s, {revolutions} revolutions")
-    print(f"{'rtol':>8}{'cell energy':>12}{'time/rev [ms]':>15}{'steps/rev':>11}{'RHS evals/s':>13}")
-    for rtol, energy in ((1e-6, False), (1e-8, False), (1e-6, True)):
+    print(f"{'method':>8}{'rtol':>8}{'cell energy':>12}{'time/rev [ms]':>15}{'steps/rev':>11}{'RHS evals/s':>13}")
+    cases = [("dopri5", 1e-6, False), ("dopri5", 1e-8, False), ("dop853", 1e-6, False), ("dop853", 1e-8, False),
+             ("dopri5", 1e-6, True)]
+    for method, rtol, energy in cases:
         def run():
             cells = np.zeros(n_cells if energy else 0)
-            return integ.integrate(model.kind, p, surf, y0, 0.0, t_end, rtol, 1e-13, integ.METHOD_DOPRI5, 0.0,
+            return integ.integrate(model.kind, p, surf, y0, 0.0, t_end, rtol, 1e-13, integ.METHODS[method], 0.0,
                                    np.inf, 10**8, np.zeros(0), 100, True, 1e6, cells)
 
         run()
         wall, out = best_of(3, run)
         stats = out[6]
-        print(f"{rtol:>8.0e}{'yes' if energy else 'no':>12}{1e3 * wall / revolutions:>15.3f}"
+        print(f"{method:>8}{rtol:>8.0e}{'yes' if energy else 'no':>12}{1e3 * wall / revolutions:>15.3f}"
               f"{stats[integ.STAT_NACCEPT] / revolutions:>11.0f}{stats[integ.STAT_NFEV] / wall:>13.3e}")
 
 

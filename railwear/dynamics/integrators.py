@@ -1,10 +1,14 @@
 """Compiled ODE integrators with the model's right-hand side in the loop (numba, ``cache=True``).
 
 ``integrate`` advances ``y' = f(t, y)`` of the model ``kind`` (see ``railwear.dynamics.kernels``)
-with one of two embedded methods and adaptive steps:
+with one of three embedded methods and adaptive steps:
 
 - ``METHOD_DOPRI5``: Dormand-Prince 5(4) (Dormand & Prince 1980), local extrapolation, FSAL, the
   fourth-order continuous extension (Hairer, Norsett & Wanner, Solving ODE I, II.6);
+- ``METHOD_DOP853``: Dormand-Prince 8(5,3) (Prince & Dormand 1981; Hairer, Norsett & Wanner,
+  II.10): 12 stages of order 8, FSAL, the error estimate of order 5 corrected by the one of
+  order 3, and the seventh-order continuous extension (three extra stages, evaluated only for
+  steps that need dense output);
 - ``METHOD_ROSENBROCK``: the linearly implicit Rosenbrock 2(3) pair with ``W = I - h d J``,
   ``d = 1/(2 + sqrt 2)`` (Shampine & Reichelt 1997, MATLAB's ode23s), L-stable, for stiff
   creep; Jacobian by forward differences, its own quadratic dense output.
@@ -26,6 +30,9 @@ from railwear.dynamics.kernels import contact_power, event, patch_half_angle, rh
 
 METHOD_DOPRI5 = 0
 METHOD_ROSENBROCK = 1
+METHOD_DOP853 = 2
+# the method names of ``railwear.dynamics.simulate``
+METHODS = {"dopri5": METHOD_DOPRI5, "dop853": METHOD_DOP853, "rosenbrock": METHOD_ROSENBROCK}
 
 STATUS_OK = 0
 STATUS_MAX_STEPS = 1
@@ -66,6 +73,82 @@ _P = np.array(
         [0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
     ]
 )
+# Dormand-Prince 8(5,3) (Hairer, Norsett & Wanner, Solving ODE I, 2nd ed., II.10, and their DOP853
+# constants). Stages 0-11 make the step, stage 12 is f at the new point (FSAL), stages 13-15 are
+# the extra stages of the continuous extension.
+_D8_C = np.array([0.0, 0.05260015195876773, 0.0789002279381516, 0.1183503419072274, 0.2816496580927726,
+                  1 / 3, 0.25, 4 / 13, 0.6512820512820513, 0.6, 6 / 7, 1.0, 1.0, 0.1, 0.2, 7 / 9])
+_D8_ROWS = (
+    (0.05260015195876773,),
+    (0.0197250569845379, 0.0591751709536137),
+    (0.02958758547680685, 0.0, 0.08876275643042054),
+    (0.2413651341592667, 0.0, -0.8845494793282861, 0.924834003261792),
+    (0.037037037037037035, 0.0, 0.0, 0.17082860872947386, 0.12546768756682242),
+    (0.037109375, 0.0, 0.0, 0.17025221101954405, 0.06021653898045596, -0.017578125),
+    (0.03709200011850479, 0.0, 0.0, 0.17038392571223998, 0.10726203044637328, -0.015319437748624402,
+     0.008273789163814023),
+    (0.6241109587160757, 0.0, 0.0, -3.3608926294469414, -0.868219346841726, 27.59209969944671,
+     20.154067550477894, -43.48988418106996),
+    (0.47766253643826434, 0.0, 0.0, -2.4881146199716677, -0.590290826836843, 21.230051448181193,
+     15.279233632882423, -33.28821096898486, -0.020331201708508627),
+    (-0.9371424300859873, 0.0, 0.0, 5.186372428844064, 1.0914373489967295, -8.149787010746927,
+     -18.52006565999696, 22.739487099350505, 2.4936055526796523, -3.0467644718982196),
+    (2.273310147516538, 0.0, 0.0, -10.53449546673725, -2.0008720582248625, -17.9589318631188,
+     27.94888452941996, -2.8589982771350235, -8.87285693353063, 12.360567175794303, 0.6433927460157636),
+    # the eighth-order weights b
+    (0.054293734116568765, 0.0, 0.0, 0.0, 0.0, 4.450312892752409, 1.8915178993145003, -5.801203960010585,
+     0.3111643669578199, -0.1521609496625161, 0.20136540080403034, 0.04471061572777259),
+    (0.056167502283047954, 0.0, 0.0, 0.0, 0.0, 0.0, 0.25350021021662483, -0.2462390374708025,
+     -0.12419142326381637, 0.15329179827876568, 0.00820105229563469, 0.007567897660545699, -0.008298),
+    (0.03183464816350214, 0.0, 0.0, 0.0, 0.0, 0.028300909672366776, 0.053541988307438566,
+     -0.05492374857139099, 0.0, 0.0, -0.00010834732869724932, 0.0003825710908356584,
+     -0.00034046500868740456, 0.1413124436746325),
+    (-0.42889630158379194, 0.0, 0.0, 0.0, 0.0, -4.697621415361164, 7.683421196062599, 4.06898981839711,
+     0.3567271874552811, 0.0, 0.0, 0.0, -0.0013990241651590145, 2.9475147891527724, -9.15095847217987),
+)
+_D8_A = np.zeros((16, 16))
+for _row, _coefficients in enumerate(_D8_ROWS, start=1):
+    _D8_A[_row, :_row] = _coefficients
+_D8_B = _D8_A[12, :12].copy()
+# fifth-order error estimate b - b^(5); third-order one b - b^(3), b^(3) = (31/127, 0.7338..., 3/136)
+_D8_E5 = np.array([0.01312004499419488, 0.0, 0.0, 0.0, 0.0, -1.2251564463762044, -0.4957589496572502,
+                   1.6643771824549864, -0.35032884874997366, 0.3341791187130175, 0.08192320648511571,
+                   -0.022355307863886294])
+_D8_E3 = _D8_B.copy()
+_D8_E3[0] -= 0.2440944881889764
+_D8_E3[8] -= 0.7338466882816118
+_D8_E3[11] -= 0.022058823529411766
+# continuous extension y + theta (r0 + (1 - theta)(r1 + theta (r2 + (1 - theta)(r3 + ...)))) with
+# r0 = y_new - y, r1 = h f0 - r0, r2 = r0 - h f_new - r1 and r3..r6 = h sum_j D[:, j] k_j
+_D8_D = np.array([
+    [-8.428938276109013, 0.0, 0.0, 0.0, 0.0, 0.5667149535193777, -3.0689499459498917, 2.38466765651207,
+     2.117034582445028, -0.871391583777973, 2.2404374302607883, 0.6315787787694688, -0.08899033645133331,
+     18.148505520854727, -9.194632392478356, -4.436036387594894],
+    [10.427508642579134, 0.0, 0.0, 0.0, 0.0, 242.28349177525817, 165.20045171727028, -374.5467547226902,
+     -22.113666853125306, 7.733432668472264, -30.674084731089398, -9.332130526430229, 15.697238121770845,
+     -31.139403219565178, -9.35292435884448, 35.81684148639408],
+    [19.985053242002433, 0.0, 0.0, 0.0, 0.0, -387.0373087493518, -189.17813819516758, 527.8081592054236,
+     -11.57390253995963, 6.8812326946963, -1.0006050966910838, 0.7777137798053443, -2.778205752353508,
+     -60.19669523126412, 84.32040550667716, 11.99229113618279],
+    [-25.69393346270375, 0.0, 0.0, 0.0, 0.0, -154.18974869023643, -231.5293791760455, 357.6391179106141,
+     93.40532418362432, -37.45832313645163, 104.0996495089623, 29.8402934266605, -43.53345659001114,
+     96.32455395918828, -39.17726167561544, -149.72683625798564],
+])
+
+
+def _nested_to_powers(n_terms):
+    """Power coefficients (theta^1 .. theta^n_terms) of the nested basis ``theta^ceil((m+1)/2)
+    (1 - theta)^floor((m+1)/2)``, ``m = 0 .. n_terms - 1``, one row per basis polynomial."""
+    out = np.zeros((n_terms, n_terms))
+    for m in range(n_terms):
+        poly = np.polynomial.polynomial.polypow([1.0, -1.0], (m + 1) // 2)
+        poly = np.concatenate([np.zeros(m // 2 + 1), poly])  # times theta^(m//2 + 1)
+        out[m, :poly.size - 1] = poly[1:]
+    return out
+
+
+_D8_POWERS = _nested_to_powers(7)
+DENSE_TERMS = 7  # columns of the dense-output coefficients (the widest interpolant)
 _ROS_D = 1.0 / (2.0 + math.sqrt(2.0))
 _ROS_E32 = 6.0 + math.sqrt(2.0)
 
@@ -89,9 +172,13 @@ def _all_finite(y):
 
 @njit(cache=True)
 def _dense(y, h, q, s, out):
-    """``out = y + h sum_j q[:, j] s^(j+1)`` (both methods' interpolants have this form)."""
+    """``out = y + h sum_j q[:, j] s^(j+1)`` (every method's interpolant has this form)."""
+    m = q.shape[1]
     for i in range(y.shape[0]):
-        out[i] = y[i] + h * s * (q[i, 0] + s * (q[i, 1] + s * (q[i, 2] + s * q[i, 3])))
+        acc = q[i, m - 1]
+        for j in range(m - 2, -1, -1):
+            acc = q[i, j] + s * acc
+        out[i] = y[i] + h * s * acc
 
 
 @njit(cache=True)
@@ -105,25 +192,76 @@ def _dopri_dense(k, q):
             q[i, c] = acc
 
 
-@njit(cache=True)
-def _dopri_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, k, tmp):
-    """One Dormand-Prince step; fills ``ynew``, ``fnew`` (FSAL), ``err`` and the stages ``k``."""
-    n = y.shape[0]
-    k[0, :] = f0
-    for s in range(1, 7):
-        for i in range(n):
-            acc = 0.0
-            for j in range(s):
-                acc += _A[s, j] * k[j, i]
-            tmp[i] = y[i] + h * acc
-        rhs_inline(kind, t + _C[s] * h, tmp, p, surf, k[s])
-    for i in range(n):
-        ynew[i] = tmp[i]  # stage 7 is evaluated at the fifth-order solution
-        fnew[i] = k[6, i]
+@njit(cache=True, inline="always")
+def _stage_state(a, s, y, h, k, tmp):
+    """``tmp = y + h sum_(j < s) a[s, j] k[j]``: where stage ``s`` evaluates the RHS."""
+    for i in range(y.shape[0]):
         acc = 0.0
-        for j in range(7):
-            acc += _E[j] * k[j, i]
-        err[i] = h * acc
+        for j in range(s):
+            acc += a[s, j] * k[j, i]
+        tmp[i] = y[i] + h * acc
+
+
+@njit(cache=True, inline="always")
+def _explicit_step(kind, p, surf, t, y, f0, h, a, c, n_stages, ynew, fnew, k, tmp):
+    """Stages ``k[:n_stages]`` of an explicit FSAL pair (tableau ``a``, nodes ``c``): the last stage
+    is evaluated at the new solution, which goes to ``ynew``, and its RHS to ``fnew``."""
+    k[0, :] = f0
+    for s in range(1, n_stages):
+        _stage_state(a, s, y, h, k, tmp)
+        rhs_inline(kind, t + c[s] * h, tmp, p, surf, k[s])
+    ynew[:] = tmp
+    fnew[:] = k[n_stages - 1]
+
+
+@njit(cache=True)
+def _combine(weights, k, h, out):
+    """``out = h sum_j weights[j] k[j]`` (an error estimate from the stages)."""
+    for i in range(out.shape[0]):
+        acc = 0.0
+        for j in range(weights.shape[0]):
+            acc += weights[j] * k[j, i]
+        out[i] = h * acc
+
+
+@njit(cache=True)
+def _dop853_error_norm(err5, err3, y, ynew, rtol, atol):
+    """Error measure of DOP853 (Hairer, Norsett & Wanner II.10): ``|e5|^2 / sqrt(n (|e5|^2 +
+    0.01 |e3|^2))`` in the weighted norm; it behaves as ``h^8``."""
+    a5 = 0.0
+    a3 = 0.0
+    for i in range(y.shape[0]):
+        scale = atol + rtol * max(abs(y[i]), abs(ynew[i]))
+        a5 += (err5[i] / scale) ** 2
+        a3 += (err3[i] / scale) ** 2
+    den = a5 + 0.01 * a3
+    if den <= 0.0:
+        return 0.0
+    return a5 / math.sqrt(den * y.shape[0])
+
+
+@njit(cache=True)
+def _dop853_dense(kind, p, surf, t, y, h, ynew, k, q, tmp, r):
+    """Dense-output coefficients of the last DOP853 step from its stages ``k[:13]``: the three extra
+    stages into ``k[13:16]``, then the nested interpolant ``r`` converted to powers of ``s``."""
+    n = y.shape[0]
+    for s in range(13, 16):
+        _stage_state(_D8_A, s, y, h, k, tmp)
+        rhs(kind, t + _D8_C[s] * h, tmp, p, surf, k[s])
+    for i in range(n):
+        r[0] = ynew[i] - y[i]
+        r[1] = h * k[0, i] - r[0]
+        r[2] = r[0] - h * k[12, i] - r[1]
+        for m in range(4):
+            acc = 0.0
+            for j in range(16):
+                acc += _D8_D[m, j] * k[j, i]
+            r[3 + m] = h * acc
+        for c in range(7):
+            acc = 0.0
+            for m in range(7):
+                acc += r[m] * _D8_POWERS[m, c]
+            q[i, c] = acc / h
 
 
 @njit(cache=True)
@@ -219,6 +357,16 @@ def _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, 
         q[i, 2] = 0.0
         q[i, 3] = 0.0
     return True
+
+
+@njit(cache=True)
+def _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r):
+    """Dense-output coefficients of the last explicit step; returns the extra RHS evaluations."""
+    if method == METHOD_DOP853:
+        _dop853_dense(kind, p, surf, t, y, h, ynew, k, q, tmp, r)
+        return 3
+    _dopri_dense(k, q)
+    return 0
 
 
 @njit(cache=True)
@@ -325,8 +473,9 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
     fnew = np.empty(n)
     err = np.empty(n)
     tmp = np.empty(n)
-    q = np.zeros((n, 4))
-    k = np.empty((7, n))
+    q = np.zeros((n, DENSE_TERMS if method == METHOD_DOP853 else 4))
+    k = np.empty((16 if method == METHOD_DOP853 else 7, n))
+    r = np.empty(DENSE_TERMS)
     jac = np.empty((n, n))
     dfdt = np.empty(n)
     w = np.empty((n, n))
@@ -350,7 +499,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
         ys[0] = y
         n_out = 1
 
-    order = 5.0 if method == METHOD_DOPRI5 else 3.0
+    order = 5.0 if method == METHOD_DOPRI5 else (8.0 if method == METHOD_DOP853 else 3.0)
     span = t_end - t0
     # initial step (Hairer, Norsett & Wanner, II.4)
     h = h0
@@ -400,8 +549,14 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
             break
         ok = True
         if method == METHOD_DOPRI5:
-            _dopri_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, k, tmp)
+            _explicit_step(kind, p, surf, t, y, f0, h, _A, _C, 7, ynew, fnew, k, tmp)
+            _combine(_E, k, h, err)
             stats[STAT_NFEV] += 6
+        elif method == METHOD_DOP853:
+            _explicit_step(kind, p, surf, t, y, f0, h, _D8_A, _D8_C, 13, ynew, fnew, k, tmp)
+            _combine(_D8_E5, k, h, err)
+            _combine(_D8_E3, k, h, k1)  # the third-order estimate
+            stats[STAT_NFEV] += 12
         else:
             if not jac_fresh:
                 _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, f1)
@@ -410,12 +565,17 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
                 jac_fresh = True
             ok = _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, w, piv, k1, k2, tmp, f1)
             stats[STAT_NFEV] += 2
+        if method == METHOD_DOP853 and not _all_finite(k1):  # k1 holds the third-order estimate
+            ok = False
         if not ok or not _all_finite(ynew) or not _all_finite(err):
             stats[STAT_NREJECT] += 1
             h *= 0.25
             fac_max = 1.0
             continue
-        en = _error_norm(err, y, ynew, rtol, atol)
+        if method == METHOD_DOP853:
+            en = _dop853_error_norm(err, k1, y, ynew, rtol, atol)
+        else:
+            en = _error_norm(err, y, ynew, rtol, atol)
         if en > 1.0:
             stats[STAT_NREJECT] += 1
             h *= max(0.2, 0.9 * en ** (-1.0 / order))
@@ -427,12 +587,12 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
             t_new = t_end
         s_end = 1.0
         hit = 0
-        q_ready = method != METHOD_DOPRI5
+        q_ready = method == METHOD_ROSENBROCK
         if use_events:
             g_new = event(kind, t_new, ynew, p, surf)
             if (g_new > 0.0) != (g_old > 0.0) and g_new != 0.0:
                 if not q_ready:
-                    _dopri_dense(k, q)
+                    stats[STAT_NFEV] += _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r)
                     q_ready = True
                 s_end = _locate_event(kind, p, surf, t, y, h, q, g_old, g_new, tmp)
                 hit = 1 if g_new > 0.0 else -1
@@ -465,12 +625,12 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
             n_ev += 1
         if energy.shape[0] > 0:
             if not q_ready:
-                _dopri_dense(k, q)
+                stats[STAT_NFEV] += _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r)
                 q_ready = True
             _deposit_step(kind, p, surf, t, y, h, q, s_end, energy, tmp)
         if dense_mode:
             if not q_ready and i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
-                _dopri_dense(k, q)
+                stats[STAT_NFEV] += _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r)
                 q_ready = True
             while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
                 s = (t_eval[i_eval] - t) / h

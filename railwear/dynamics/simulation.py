@@ -15,7 +15,7 @@ from railwear.errors import NumericalInstabilityError, ScenarioError
 
 __all__ = ["simulate", "METHODS"]
 
-METHODS = {"dopri5": integ.METHOD_DOPRI5, "rosenbrock": integ.METHOD_ROSENBROCK}
+METHODS = integ.METHODS  # name -> method id, kept with the integrators
 _EPS = np.finfo(float).eps
 _log = logging.getLogger("railwear.dynamics")
 
@@ -86,7 +86,7 @@ def simulate(
     ``BogieModel``) over ``[0, t_end]`` seconds.
 
     Output at ``t_eval`` (dense output; default ``n_output`` equidistant times) or every
-    ``output_every`` accepted steps. ``method``: ``"dopri5"`` (explicit, default) or
+    ``output_every`` accepted steps. ``method``: ``"dopri5"`` (explicit, default), ``"dop853"`` or
     ``"rosenbrock"`` (linearly implicit, for stiff creep). Returns a Dataset with the states and
     the contact quantities; every variable has CF ``units`` and ``long_name``.
     Raises ``ScenarioError`` for bad options and ``NumericalInstabilityError`` if the solution
