@@ -177,18 +177,21 @@ class WheelsetWear:
 
     def deposit(self, surfaces, ds, table, phase, factor=1.0):
         """Wear the two ``surfaces`` (left, right) by ``factor β`` times the frictional energy of the
-        run ``ds`` on ``table``, the wheel angle starting at ``phase`` (rad). Returns the volume
+        run ``ds`` on ``table``, the wheel angle starting at ``phase`` (rad) and turning at
+        ``2 V / (r_L + r_R)`` (the axle's quasi-static spin, radii from the table). Returns the volume
         added (m³), the law's volume ``factor β ∫ P dt`` (m³) and the end angle (rad)."""
         t = ds.time.values
-        angle = phase + np.unwrap(ds.contact_angle.values) - ds.contact_angle.values[0]
         shift = -0.5 * (ds.lateral_displacement.values[1:] + ds.lateral_displacement.values[:-1])  # table y: right
+        at = {(wheel, v): np.interp(shift, table.y.values, table[v].sel(side=wheel).values)
+              for wheel in WHEELS for v in ("a", "b", "rolling_radius")}
+        turned = 2 * self.model.speed * np.diff(t) / (at["left", "rolling_radius"] + at["right", "rolling_radius"])
+        angle = phase + np.concatenate([[0.0], np.cumsum(turned)])
         added = law = 0.0
         for surface, wheel in zip(surfaces, WHEELS):
             power = ds.frictional_power.sel(wheel=wheel).values
             volume = factor * self.beta * 0.5 * (power[1:] + power[:-1]) * np.diff(t)
             position = ds.contact_lateral_position.sel(wheel=wheel).values
-            row = table.sel(side=wheel)
-            a, b = (np.interp(shift, table.y.values, row[v].values) for v in ("a", "b"))
+            a, b = at[wheel, "a"], at[wheel, "b"]
             added += sweep_deposit(surface, volume, angle[:-1], angle[1:], 0.5 * (position[1:] + position[:-1]),
                                    a, b, self.footprint)
             law += float(volume.sum())
@@ -220,6 +223,8 @@ def _result(problem, saved, surfaces, cost, attrs, extra=None):
                         {"units": "m", "long_name": "smallest contact lateral position seen in the step"}),
         "contact_max": ("distance", np.array(saved["cmax"]),
                         {"units": "m", "long_name": "largest contact lateral position seen in the step"}),
+        "lateral_amplitude": ("distance", np.array(saved["amplitude"]),
+                              {"units": "m", "long_name": "largest lateral displacement after the transient in the step"}),
         "rolling_radius_difference": (("distance", "shift"), np.array(tables),
                                       {"units": "m", "long_name": "rolling radius difference right - left of the table"}),
         "cost_seconds": ((), float(cost["seconds"]), {"units": "s", "long_name": "seconds of dynamics simulated"}),
@@ -243,21 +248,25 @@ class _Saved(dict):
     """Outputs gathered step by step."""
 
     def __init__(self):
-        super().__init__(time=[], depth=[], volume=[], law=[], cmin=[], cmax=[], rrd=[])
+        super().__init__(time=[], depth=[], volume=[], law=[], cmin=[], cmax=[], amplitude=[], rrd=[])
 
-    def add(self, T, surfaces, law, cmin, cmax, table):
+    def add(self, T, surfaces, law, seen, table):
+        """Outputs after a step: ``seen`` the contact range and the largest |y| (m) of its runs."""
+        cmin, cmax, amplitude = seen
         self["time"].append(T)
         self["depth"].append([s.depth.mean(0) for s in surfaces])
         self["volume"].append(sum(s.removed_volume() for s in surfaces))
         self["law"].append(law)
         self["cmin"].append(cmin)
         self["cmax"].append(cmax)
+        self["amplitude"].append(amplitude)
         self["rrd"].append(table.rolling_radius_difference.values.copy())
 
 
-def _contact_range(ds):
+def _seen(ds):
+    """Smallest and largest contact lateral position and largest |y| (m) of a run."""
     position = ds.contact_lateral_position.values
-    return float(position.min()), float(position.max())
+    return float(position.min()), float(position.max()), float(np.abs(ds.lateral_displacement.values).max())
 
 
 def _checked(until, depth_limit):
@@ -296,9 +305,10 @@ class WheelsetStepwise:
 
     def statistics(self, table, rng):
         """Depth rate (m per unit normed time) per draw over (wheel, angle, lateral), the law's
-        volume rate (m³ per unit normed time) per draw, the contact range (m) and the cost."""
+        volume rate (m³ per unit normed time) per draw, the contact range and largest |y| (m)
+        seen, and the cost."""
         p = self.problem
-        rates, law, cmin, cmax = [], [], np.inf, -np.inf
+        rates, law, seen = [], [], (np.inf, -np.inf, 0.0)
         cost = {"seconds": 0.0, "rhs": 0}
         for _ in range(self.samples):
             offset, phase = p.start(rng)
@@ -307,7 +317,6 @@ class WheelsetStepwise:
                 ds, state = p.run(table, p.transient, offset=offset)
                 cost["seconds"] += p.transient
                 cost["rhs"] += ds.attrs["rhs_evaluations"]
-                phase += float(np.unwrap(ds.contact_angle.values)[-1])
             ds, _ = p.run(table, self.seconds, state=state, offset=offset)
             cost["seconds"] += self.seconds
             cost["rhs"] += ds.attrs["rhs_evaluations"]
@@ -316,9 +325,9 @@ class WheelsetStepwise:
             per_life = p.life_distance / (p.model.speed * self.seconds)
             rates.append(np.stack([s.depth for s in surfaces]) * per_life)
             law.append(volume * per_life)
-            lo, hi = _contact_range(ds)
-            cmin, cmax = min(cmin, lo), max(cmax, hi)
-        return np.array(rates), np.array(law), (cmin, cmax), cost
+            lo, hi, amplitude = _seen(ds)
+            seen = (min(seen[0], lo), max(seen[1], hi), max(seen[2], amplitude))
+        return np.array(rates), np.array(law), seen, cost
 
     def run(self, u0=None, until=1.0, depth_limit=None, progress=None):
         """Worn lateral profile over normed time from the lateral depth ``u0`` (m removed, on the
@@ -336,12 +345,12 @@ class WheelsetStepwise:
         table = p.table(start_depth)
         cost = {"seconds": 0.0, "rhs": 0, "tables": 1}
         saved, T, law, j = _Saved(), 0.0, 0.0, 0
-        saved.add(T, surfaces, law, np.nan, np.nan, table)
+        saved.add(T, surfaces, law, (np.nan,) * 3, table)
         variance = np.zeros((2, p.lateral.size))
         while T < until and (depth_limit is None or np.max(_fed(surfaces) - start_depth) < depth_limit * (1 - 1e-12)):
             if j >= self.max_steps:
                 raise ScenarioError(f"step_limit: {self.max_steps} steps did not reach the end; raise step_limit")
-            rates, laws, (cmin, cmax), c = self.statistics(table, rng)
+            rates, laws, seen, c = self.statistics(table, rng)
             cost["seconds"] += c["seconds"]
             cost["rhs"] += c["rhs"]
             rate = rates.mean(0)
@@ -359,7 +368,7 @@ class WheelsetStepwise:
             j += 1
             table = p.table(_fed(surfaces))
             cost["tables"] += 1
-            saved.add(T, surfaces, law, cmin, cmax, table)
+            saved.add(T, surfaces, law, seen, table)
             if progress is not None:
                 progress(min(T / until, 1.0))
         error = {"worn_depth_final_standard_error": (("wheel", "lateral"), np.sqrt(variance),
@@ -408,9 +417,8 @@ class WheelsetDirect:
             ds, state = p.run(table, p.transient, offset=offset)
             cost["seconds"] += p.transient
             cost["rhs"] += ds.attrs["rhs_evaluations"]
-            phase += float(np.unwrap(ds.contact_angle.values)[-1])
         saved, T, law, j = _Saved(), 0.0, 0.0, 0
-        saved.add(T, surfaces, law, np.nan, np.nan, table)
+        saved.add(T, surfaces, law, (np.nan,) * 3, table)
         per_second = self.acceleration * p.model.speed / p.life_distance  # normed time per simulated second
         while T < until and (depth_limit is None or np.max(_fed(surfaces) - start_depth) < depth_limit * (1 - 1e-12)):
             if j >= self.max_updates:
@@ -430,7 +438,7 @@ class WheelsetDirect:
             j += 1
             table = p.table(_fed(surfaces))
             cost["tables"] += 1
-            saved.add(T, surfaces, law, *_contact_range(ds), table)
+            saved.add(T, surfaces, law, _seen(ds), table)
             if progress is not None:
                 progress(min(T / until, 1.0))
         attrs = {"strategy": "wheelset direct coupled integration", "updates": j,
