@@ -162,9 +162,10 @@ class WheelsetWear:
         offset = rng.uniform(lo, hi) * rng.choice((-1.0, 1.0))
         return float(offset), float(rng.uniform(0.0, 2 * np.pi))
 
-    def run(self, table, seconds, state=None, offset=0.0):
+    def run(self, table, seconds, state=None, offset=0.0, cost=None):
         """Run the wheelset on ``table`` for ``seconds`` (s) from ``state`` (or at rest displaced by
-        ``offset``, m): ``(dataset, final state)``."""
+        ``offset``, m): ``(dataset, final state)``; the seconds and right-hand sides are added to
+        ``cost``."""
         from railwear.dynamics import simulate
 
         model = replace(self.model, table=table, initial_lateral_displacement=offset, initial_yaw_angle=0.0,
@@ -173,7 +174,14 @@ class WheelsetWear:
                       initial_state=state)
         end = np.array([ds[v].values[-1] for v in ("lateral_displacement", "yaw_angle", "lateral_velocity",
                                                     "yaw_rate")])
+        if cost is not None:
+            cost["seconds"] += seconds
+            cost["rhs"] += ds.attrs["rhs_evaluations"]
         return ds, end
+
+    def settle(self, table, offset, cost):
+        """State (or ``None``) after the transient from rest at ``offset`` (m)."""
+        return self.run(table, self.transient, offset=offset, cost=cost)[1] if self.transient > 0 else None
 
     def deposit(self, surfaces, ds, table, phase, factor=1.0):
         """Wear the two ``surfaces`` (left, right) by ``factor β`` times the frictional energy of the
@@ -198,9 +206,29 @@ class WheelsetWear:
         return added, law, float(angle[-1])
 
 
-def _seconds_check(name, value, low=0.0):
-    if not (np.isfinite(value) and value > low):
-        raise ScenarioError(f"{name} must be finite and > {low:g} (s), got {value}")
+def _seconds_check(name, value, seed):
+    if not (np.isfinite(value) and value > 0):
+        raise ScenarioError(f"{name} must be finite and > 0 (s), got {value}")
+    if int(seed) != seed or seed < 0:
+        raise ScenarioError(f"seed must be a whole number >= 0, got {seed}")
+
+
+def _begin(problem, u0, seed):
+    """Generator, the two surfaces worn by the lateral depth ``u0`` (m), the fed start depth, its
+    table, the cost counters and the outputs with the start saved."""
+    surfaces = (problem.new_surface(), problem.new_surface())
+    if u0 is not None:
+        u0 = np.asarray(u0, float)
+        if u0.shape != problem.lateral.shape or not np.all(np.isfinite(u0)):
+            raise ScenarioError(f"u0 must be {problem.lateral.size} finite lateral depths (m)")
+        for surface in surfaces:
+            surface.depth += u0[None, :]
+    start_depth = _fed(surfaces)
+    table = problem.table(start_depth)
+    saved = _Saved()
+    saved.add(0.0, surfaces, 0.0, (np.nan,) * 3, table)
+    return (np.random.default_rng(seed), surfaces, start_depth, table, {"seconds": 0.0, "rhs": 0, "tables": 1},
+            saved)
 
 
 def _result(problem, saved, surfaces, cost, attrs, extra=None):
@@ -297,29 +325,20 @@ class WheelsetStepwise:
     def __post_init__(self):
         if not (np.isfinite(self.step_limit) and self.step_limit > 0):
             raise ScenarioError(f"step_limit must be > 0 (m), got {self.step_limit}")
-        _seconds_check("seconds", self.seconds)
+        _seconds_check("seconds", self.seconds, self.seed)
         if int(self.samples) != self.samples or self.samples < 2:
             raise ScenarioError(f"samples must be a whole number >= 2 (for a variance), got {self.samples}")
-        if int(self.seed) != self.seed or self.seed < 0:
-            raise ScenarioError(f"seed must be a whole number >= 0, got {self.seed}")
 
-    def statistics(self, table, rng):
+    def statistics(self, table, rng, cost=None):
         """Depth rate (m per unit normed time) per draw over (wheel, angle, lateral), the law's
         volume rate (m³ per unit normed time) per draw, the contact range and largest |y| (m)
-        seen, and the cost."""
+        seen, and the cost (added to ``cost`` when given)."""
         p = self.problem
         rates, law, seen = [], [], (np.inf, -np.inf, 0.0)
-        cost = {"seconds": 0.0, "rhs": 0}
+        cost = {"seconds": 0.0, "rhs": 0} if cost is None else cost
         for _ in range(self.samples):
             offset, phase = p.start(rng)
-            state = None
-            if p.transient > 0:
-                ds, state = p.run(table, p.transient, offset=offset)
-                cost["seconds"] += p.transient
-                cost["rhs"] += ds.attrs["rhs_evaluations"]
-            ds, _ = p.run(table, self.seconds, state=state, offset=offset)
-            cost["seconds"] += self.seconds
-            cost["rhs"] += ds.attrs["rhs_evaluations"]
+            ds, _ = p.run(table, self.seconds, state=p.settle(table, offset, cost), offset=offset, cost=cost)
             surfaces = (p.new_surface(), p.new_surface())
             _, volume, _ = p.deposit(surfaces, ds, table, phase)
             per_life = p.life_distance / (p.model.speed * self.seconds)
@@ -336,23 +355,13 @@ class WheelsetStepwise:
         _checked(until, depth_limit)
         p = self.problem
         started = _time.perf_counter()
-        rng = np.random.default_rng(self.seed)
-        surfaces = (p.new_surface(), p.new_surface())
-        if u0 is not None:
-            for s in surfaces:
-                s.depth += np.asarray(u0, float)[None, :]
-        start_depth = _fed(surfaces)
-        table = p.table(start_depth)
-        cost = {"seconds": 0.0, "rhs": 0, "tables": 1}
-        saved, T, law, j = _Saved(), 0.0, 0.0, 0
-        saved.add(T, surfaces, law, (np.nan,) * 3, table)
+        rng, surfaces, start_depth, table, cost, saved = _begin(p, u0, self.seed)
+        T, law, j = 0.0, 0.0, 0
         variance = np.zeros((2, p.lateral.size))
         while T < until and (depth_limit is None or np.max(_fed(surfaces) - start_depth) < depth_limit * (1 - 1e-12)):
             if j >= self.max_steps:
                 raise ScenarioError(f"step_limit: {self.max_steps} steps did not reach the end; raise step_limit")
-            rates, laws, seen, c = self.statistics(table, rng)
-            cost["seconds"] += c["seconds"]
-            cost["rhs"] += c["rhs"]
+            rates, laws, seen, _ = self.statistics(table, rng, cost)
             rate = rates.mean(0)
             lateral_rate = rate.mean(1)  # (wheel, lateral)
             top = np.max(lateral_rate.mean(0))
@@ -394,40 +403,24 @@ class WheelsetDirect:
     def __post_init__(self):
         if not (np.isfinite(self.acceleration) and self.acceleration >= 1):
             raise ScenarioError(f"acceleration factor must be >= 1, got {self.acceleration}")
-        _seconds_check("update_seconds", self.update_seconds)
-        if int(self.seed) != self.seed or self.seed < 0:
-            raise ScenarioError(f"seed must be a whole number >= 0, got {self.seed}")
+        _seconds_check("update_seconds", self.update_seconds, self.seed)
 
     def run(self, u0=None, until=1.0, depth_limit=None, progress=None):
         """As :meth:`WheelsetStepwise.run`."""
         _checked(until, depth_limit)
         p = self.problem
         started = _time.perf_counter()
-        rng = np.random.default_rng(self.seed)
-        surfaces = (p.new_surface(), p.new_surface())
-        if u0 is not None:
-            for s in surfaces:
-                s.depth += np.asarray(u0, float)[None, :]
-        start_depth = _fed(surfaces)
-        table = p.table(start_depth)
-        cost = {"seconds": 0.0, "rhs": 0, "tables": 1}
+        rng, surfaces, start_depth, table, cost, saved = _begin(p, u0, self.seed)
         offset, phase = p.start(rng)
-        state = None
-        if p.transient > 0:
-            ds, state = p.run(table, p.transient, offset=offset)
-            cost["seconds"] += p.transient
-            cost["rhs"] += ds.attrs["rhs_evaluations"]
-        saved, T, law, j = _Saved(), 0.0, 0.0, 0
-        saved.add(T, surfaces, law, (np.nan,) * 3, table)
+        state = p.settle(table, offset, cost)
+        T, law, j = 0.0, 0.0, 0
         per_second = self.acceleration * p.model.speed / p.life_distance  # normed time per simulated second
         while T < until and (depth_limit is None or np.max(_fed(surfaces) - start_depth) < depth_limit * (1 - 1e-12)):
             if j >= self.max_updates:
                 raise ScenarioError(f"direct: {self.max_updates} updates did not reach the end; raise the acceleration factor")
             last = (until - T) / per_second <= self.update_seconds
             seconds = (until - T) / per_second if last else self.update_seconds
-            ds, state = p.run(table, seconds, state=state, offset=offset)
-            cost["seconds"] += seconds
-            cost["rhs"] += ds.attrs["rhs_evaluations"]
+            ds, state = p.run(table, seconds, state=state, offset=offset, cost=cost)
             segment = (p.new_surface(), p.new_surface())
             _, volume, phase = p.deposit(segment, ds, table, phase, self.acceleration)
             frac = stop_fraction(_fed(surfaces) - start_depth, _fed(segment), depth_limit)
