@@ -161,3 +161,23 @@ def test_bad_run_arguments(profiles):
         WheelsetDirect(p, 10.0).run(until=0.0)
     with pytest.raises(ScenarioError, match="depth_limit"):
         WheelsetStepwise(p, 1e-6).run(until=1.0, depth_limit=-1.0)
+
+
+@pytest.mark.slow
+def test_section_script_runs_and_the_hunting_band_is_wider():
+    """docs/strategies_wheelset.py --quick prints the section with both speeds, the strategies and
+    the statement on the other two strategies; the band on the new profiles is wider when hunting."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[2] / "docs" / "strategies_wheelset.py"
+    text = subprocess.run([sys.executable, str(script), "--quick"], check=True, capture_output=True, text=True,
+                          env={"MPLBACKEND": "agg", "PATH": ""}, timeout=600).stdout
+    rows = [line.split("|") for line in text.splitlines() if line.startswith("| 30 m/s (") or line.startswith("| 60 m/s (")]
+    assert [row[2].strip() for row in rows] == ["centred running", "hunting"]
+    band_new = [float(row[6]) for row in rows]  # 90 % band on the new profiles, mm
+    assert band_new[1] > band_new[0] + 5
+    for label in ("| stepwise, 2 um |", "| direct, A = 10000 |", "| direct, A = 5000 | reference |"):
+        assert label in text
+    assert "Fourier and phenomenological" in text and "### Why" in text
