@@ -8,8 +8,8 @@ two output times of the dynamics the frictional energy ``E = ∫ P dt`` of a whe
 removed as the volume ``β E`` (energy law, ``railwear.wear.EnergyLaw.beta``, m³/J) under the Hertz
 ellipse of the contact table (semi-axes ``a`` along rolling, ``b`` across, interpolated at the
 wheelset's shift), centred at the contact position the table gives and swept along the
-circumference over the angle the wheel turned in that interval. The removed volume equals
-``β ∫ P dt`` to round-off.
+circumference over the angle the wheel turned in that interval (at the axle's quasi-static spin
+``2 V / (r_L + r_R)``). The removed volume equals ``β ∫ P dt`` to round-off.
 
 Feedback ("the contact geometry sees u"): after each long-term step the wheel profile is worn by
 the angle-averaged depth over ``s``, averaged over the two wheels (the contact table is built for
@@ -25,7 +25,13 @@ part of the depth is an output only: the table model has no angle round the whee
   ``acceleration``; the surface takes the wear of every interval, the profile and the table are
   updated every ``update_seconds`` of simulated time.
 
-Normed time: ``life_distance`` metres of running are one unit.
+Normed time: ``life_distance`` metres of running are one unit. Both strategies' ``run`` return an
+``xarray.Dataset`` with ``worn_depth(distance, wheel, lateral)`` (m, angle-averaged),
+``surface_depth(wheel, angle, lateral)`` at the end, the removed and the law's volume, the contact
+positions and the largest lateral displacement seen per step, the tables' rolling-radius
+difference per step, and the cost (simulated seconds, right-hand sides, tables, wall seconds);
+stepwise adds the Monte Carlo standard error of the final worn depth. Not built: checkpoints and
+resume, scenario files.
 """
 
 import time as _time
