@@ -30,7 +30,7 @@ BLOWUP = 2
 
 @dataclass(frozen=True)
 class ETDCoefficients:
-    """ETDRK4 weights for a linear part ``L`` (real, shape ``(batch, nk)``) and the step of each row."""
+    """ETDRK4 weights for a linear part ``L`` (shape ``(batch, nk)``; complex with a drift) and the step of each row."""
 
     dt: np.ndarray
     E: np.ndarray
@@ -42,16 +42,20 @@ class ETDCoefficients:
 
 
 def etdrk4_coefficients(L, dt, n_contour=32):
-    """ETDRK4 weights by the mean over ``n_contour`` points of the upper half of a unit circle
-    round each ``dt L`` (real ``L``: the real part of that mean is the mean over the circle).
+    """ETDRK4 weights by the mean over a circle of radius 1 round each ``dt L``.
 
-    ``L`` has shape ``(batch, nk)``; ``dt`` is one step or one per row. The contour mean avoids
-    the cancellation of the closed forms near ``dt L = 0`` (Kassam & Trefethen 2005, eq. 2.5 and
-    section 3; they take 16 points).
+    ``L`` has shape ``(batch, nk)``; ``dt`` is one step or one per row. A real ``L`` takes
+    ``n_contour`` points on the upper half circle (the real part of their mean is the mean over
+    the circle), a complex one (a drift term) ``2 n_contour`` on the whole circle. The contour
+    mean avoids the cancellation of the closed forms near ``dt L = 0`` (Kassam & Trefethen 2005,
+    eq. 2.5 and section 3; they take 16 points).
     """
-    L = np.asarray(L, dtype=float)
+    L = np.asarray(L)
+    real = not np.iscomplexobj(L) or not np.any(L.imag)
+    L = L.real.astype(float) if real else L.astype(complex)
     dt = np.broadcast_to(np.asarray(dt, dtype=float).reshape(-1, 1), (L.shape[0], 1))
-    r = np.exp(1j * np.pi * (np.arange(1, n_contour + 1) - 0.5) / n_contour)
+    points = n_contour if real else 2 * n_contour
+    r = np.exp(1j * np.pi * (np.arange(1, points + 1) - 0.5) / n_contour)
     LR = (dt * L)[..., None] + r
     eLR2 = np.exp(LR / 2)
     eLR = eLR2 * eLR2
@@ -59,7 +63,8 @@ def etdrk4_coefficients(L, dt, n_contour=32):
     inv3 = 1 / (LR2 * LR)
 
     def mean(z):
-        return dt * np.mean(z, axis=-1).real
+        m = dt * np.mean(z, axis=-1)
+        return m.real if real else m
 
     return ETDCoefficients(
         dt=dt[:, 0].copy(),

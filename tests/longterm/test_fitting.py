@@ -13,11 +13,14 @@ from railwear.pde import Table
 WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
 
 
-def synthetic(h, speeds, noise, rng, cells=4000):
+def synthetic(h, speeds, noise, rng, cells=4000, drift=(0.0, 0.0)):
     s = rng.normal(0.0, 5e-3, (len(speeds), 1, cells))
-    rate = np.stack([h(s[i], v) for i, v in enumerate(speeds)]) + noise * rng.standard_normal(s.shape)
+    ux = rng.normal(0.0, 1e-3, s.shape)
+    rate = np.stack([h(s[i], v) + drift[i] * ux[i] for i, v in enumerate(speeds)])
+    rate = rate + noise * rng.standard_normal(s.shape)
     dims = ("speed", "geometry", "angle")
-    return xr.Dataset({"curvature": (dims, s), "rate": (dims, rate), "standard_error": (dims, np.full(s.shape, noise))},
+    return xr.Dataset({"curvature": (dims, s), "slope": (dims, ux), "rate": (dims, rate),
+                       "standard_error": (dims, np.full(s.shape, noise))},
                       coords={"speed": ("speed", np.asarray(speeds, float))})
 
 
@@ -31,8 +34,10 @@ def test_recovers_a_known_cubic_from_noisy_statistics_and_emits_a_table():
         return -1.6e-3 + 0.02 * v / 60 * s - 3.0 * s**2 - 400.0 * s**3
 
     rng = np.random.default_rng(2)
-    stats = synthetic(h, [40.0, 60.0], 2e-5, rng)
+    stats = synthetic(h, [40.0, 60.0], 2e-5, rng, drift=(0.3, -0.05))
     fit = fit_h(stats, degree=3)
+    # the drift to its least-squares standard error, 2e-5 / (1e-3 sqrt(4000)) = 3e-4, times 3
+    np.testing.assert_allclose(fit.drift, [0.3, -0.05], atol=1e-3)
     assert isinstance(fit.table, Table)
     assert np.all(fit.chi2 < 2.5)
     # inside the bulk of the data (2 standard deviations of the curvature), to about two standard
