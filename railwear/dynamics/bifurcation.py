@@ -49,8 +49,9 @@ def _last_state(ds):
         return np.array([lat[0], yaw[0], lat[1], yaw[1], float(last.frame_lateral_displacement),
                          float(last.frame_yaw_angle), vlat[0], vyaw[0], vlat[1], vyaw[1],
                          float(last.frame_lateral_velocity), float(last.frame_yaw_rate)])
+    spin = [float(last.spin_deviation)] if "spin_deviation" in ds else []
     return np.array([float(last.lateral_displacement), float(last.yaw_angle), float(last.lateral_velocity),
-                     float(last.yaw_rate)])
+                     float(last.yaw_rate)] + spin)
 
 
 def settle(model, state=None, window=1.0, max_time=30.0, collapse=1e-4, tol=1e-3, rtol=1e-8, n_output=501):

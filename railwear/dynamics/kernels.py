@@ -24,6 +24,7 @@ KIND_WHEELSET = 2
 KIND_DISK_WHEEL = 3
 KIND_BOGIE = 4
 KIND_TABLE_WHEELSET = 5
+KIND_TABLE_BOGIE = 6  # the bogie's parameters (BG_*) followed by a table wheelset's (TW_*, offset BG_N_PARAMS)
 
 # ---- wheelset parameters --------------------------------------------------------------------
 WS_SPEED = 0
@@ -46,7 +47,11 @@ WS_FLANGE_CLEARANCE = 16
 WS_FLANGE_STIFFNESS = 17
 WS_IRREGULARITY_CELLS = 18  # 0: ideal track; else lateral alignment y_t at n points in surf
 WS_IRREGULARITY_WAVELENGTH = 19  # length of track over which surf repeats [m]
-WS_N_PARAMS = 20
+WS_SPIN_INERTIA = 20  # axle polar inertia [kg m^2]; acts only with the spin state y[4]
+WS_LAW = 21  # creep law: 0 Johnson-Vermeulen cubic saturation, 1 FASTSIM (factor table in surf)
+WS_LAW_OFFSET = 22  # where the FASTSIM factor table starts in surf
+WS_LAW_POINTS = 23
+WS_N_PARAMS = 24
 WS_N_OUTPUTS = 19  # see wheelset_outputs
 
 # ---- bogie parameters (two wheelsets in a frame, frame on a secondary suspension) -----------
@@ -73,7 +78,10 @@ BG_WHEEL_LOAD = 19
 BG_FRICTION = 20
 BG_FLANGE_CLEARANCE = 21
 BG_FLANGE_STIFFNESS = 22
-BG_N_PARAMS = 23
+BG_LAW = 23  # as WS_LAW
+BG_LAW_OFFSET = 24
+BG_LAW_POINTS = 25
+BG_N_PARAMS = 26
 BG_N_OUTPUTS = 10  # see bogie_outputs
 
 # ---- wheelset on real profiles (contact table) -------------------------------------------
@@ -139,23 +147,37 @@ def saturation_factor(force, limit):
     return 1.0 / r
 
 
+@njit(cache=True, inline="always")
+def creep_factor(force, limit, law, surf, offset, points):
+    """Factor on Kalker's linear creep forces of resultant ``force`` [N] at ``limit = mu N``:
+    the cubic law (``law`` 0, ``saturation_factor``) or FASTSIM (``law`` 1: the ratio of FASTSIM's
+    force to the linear one, tabulated in ``surf`` against ``s = force / limit`` as in
+    ``creep_curve``; at ``s = 0`` it is FASTSIM's discretised linear slope, close to 1)."""
+    if law == 0.0:
+        return saturation_factor(force, limit)
+    if limit <= 0.0:
+        return 0.0
+    return creep_curve(surf, offset, points, force / limit)
+
+
 # ---- wheelset -------------------------------------------------------------------------------
 @njit(cache=True, inline="always")
-def _creep(sign, lat, yaw, vlat, vyaw, v, e, r0, lam, f11, f22, f23, f33, limit):
+def _creep(sign, lat, yaw, vlat, vyaw, v, e, r0, lam, f11, f22, f23, f33, limit, omega, law, surf, offset, points):
     """Creepages, forces and frictional power of one conical wheel of a wheelset.
 
-    ``sign`` +1 for the left wheel at ``+e``, -1 for the right. ``xi = -sign (e psi'/V + lam y/r0)``,
+    ``sign`` +1 for the left wheel at ``+e``, -1 for the right; ``omega`` [rad/s] the axle's
+    spin deviation from ``V / r0``. ``xi = -sign (e psi'/V + lam y/r0) - omega (r0 + sign lam y)/V``,
     ``eta = y'/V - psi``, ``phi = psi'/V - sign lam/r0``; ``Fx = -f11 xi``,
-    ``Fy = -f22 eta - f23 phi``, ``Mz = f23 eta - f33 phi``, all scaled by the saturation factor of
+    ``Fy = -f22 eta - f23 phi``, ``Mz = f23 eta - f33 phi``, all scaled by ``creep_factor`` of
     ``|(Fx, Fy)|`` against ``limit = mu N``; power ``-V (Fx xi + Fy eta + Mz phi)``.
     """
     eta = vlat / v - yaw
-    xi = -sign * (e * vyaw / v + lam * lat / r0)
+    xi = -sign * (e * vyaw / v + lam * lat / r0) - omega * (r0 + sign * lam * lat) / v
     phi = vyaw / v - sign * lam / r0
     fx = -f11 * xi
     fy = -f22 * eta - f23 * phi
     mz = f23 * eta - f33 * phi
-    s = saturation_factor(math.sqrt(fx * fx + fy * fy), limit)
+    s = creep_factor(math.sqrt(fx * fx + fy * fy), limit, law, surf, offset, points)
     fx *= s
     fy *= s
     mz *= s
@@ -173,14 +195,21 @@ def _track_alignment(t, p, surf):
 
 
 @njit(cache=True, inline="always")
-def _wheel(sign, y, p, relative):
-    """``_creep`` for the single wheelset, state ``y = [y, psi, y', psi']``, parameters ``WS_*``;
-    ``relative`` is the lateral displacement from the track centre line (sets the rolling radii).
-    The frame and its suspension follow the ideal line; a lateral alignment of the rails changes
-    the rolling radii and the flange gap, while the lateral creepage, taken in the direction of
-    the rails, is unchanged to first order."""
+def _spin(y):
+    """The axle's spin deviation from ``V / r0`` [rad/s]: the fifth state where there is one."""
+    return y[4] if y.shape[0] > 4 else 0.0
+
+
+@njit(cache=True, inline="always")
+def _wheel(sign, y, p, surf, relative):
+    """``_creep`` for the single wheelset, state ``y = [y, psi, y', psi'(, omega)]``, parameters
+    ``WS_*``; ``relative`` is the lateral displacement from the track centre line (sets the rolling
+    radii). The frame and its suspension follow the ideal line; a lateral alignment of the rails
+    changes the rolling radii and the flange gap, while the lateral creepage, taken in the
+    direction of the rails, is unchanged to first order."""
     return _creep(sign, relative, y[1], y[2], y[3], p[WS_SPEED], p[WS_HALF_GAUGE], p[WS_ROLLING_RADIUS],
-                  p[WS_CONICITY], p[WS_F11], p[WS_F22], p[WS_F23], p[WS_F33], p[WS_FRICTION] * p[WS_WHEEL_LOAD])
+                  p[WS_CONICITY], p[WS_F11], p[WS_F22], p[WS_F23], p[WS_F33], p[WS_FRICTION] * p[WS_WHEEL_LOAD],
+                  _spin(y), p[WS_LAW], surf, int(p[WS_LAW_OFFSET]), int(p[WS_LAW_POINTS]))
 
 
 @njit(cache=True, inline="always")
@@ -200,22 +229,26 @@ def _flange(lateral, p):
 
 @njit(cache=True, inline="always")
 def wheelset_rhs(t, y, p, surf, dydt):
-    """Suspended wheelset on straight track: state ``[y, psi, y', psi']``.
+    """Suspended wheelset on straight track: state ``[y, psi, y', psi']``, or with the axle's
+    spin deviation ``omega`` from ``V / r0`` as a fifth state.
 
     ``m y'' = Fy_L + Fy_R + F_flange - k_y y - c_y y'``,
-    ``I psi'' = e (Fx_R - Fx_L) + Mz_L + Mz_R - k_psi psi - c_psi psi'``; Kalker's linear creep
-    forces with optional spin and Johnson-Vermeulen saturation, conical wheels, flange dead band,
-    small yaw angles, constant wheel spin ``V / r0``.
+    ``I psi'' = e (Fx_R - Fx_L) + Mz_L + Mz_R - k_psi psi - c_psi psi'``,
+    ``J omega' = -(r_L Fx_L + r_R Fx_R)`` with ``r = r0 +- lam y``; Kalker's linear creep forces
+    with optional spin and saturation, conical wheels, flange dead band, small yaw angles.
     """
     relative = y[0] - _track_alignment(t, p, surf)
-    _, _, _, fx_l, fy_l, mz_l, _ = _wheel(1.0, y, p, relative)
-    _, _, _, fx_r, fy_r, mz_r, _ = _wheel(-1.0, y, p, relative)
+    _, _, _, fx_l, fy_l, mz_l, _ = _wheel(1.0, y, p, surf, relative)
+    _, _, _, fx_r, fy_r, mz_r, _ = _wheel(-1.0, y, p, surf, relative)
     force = fy_l + fy_r + _flange(relative, p) - p[WS_LATERAL_STIFFNESS] * y[0] - p[WS_LATERAL_DAMPING] * y[2]
     moment = p[WS_HALF_GAUGE] * (fx_r - fx_l) + mz_l + mz_r - p[WS_YAW_STIFFNESS] * y[1] - p[WS_YAW_DAMPING] * y[3]
     dydt[0] = y[2]
     dydt[1] = y[3]
     dydt[2] = force / p[WS_MASS]
     dydt[3] = moment / p[WS_YAW_INERTIA]
+    if y.shape[0] > 4:
+        dr = p[WS_CONICITY] * relative
+        dydt[4] = -((p[WS_ROLLING_RADIUS] + dr) * fx_l + (p[WS_ROLLING_RADIUS] - dr) * fx_r) / p[WS_SPIN_INERTIA]
 
 
 @njit(cache=True)
@@ -226,7 +259,7 @@ def wheelset_outputs(t, y, p, surf, out):
     track = _track_alignment(t, p, surf)
     for w in range(2):
         sign = 1.0 - 2.0 * w
-        vals = _wheel(sign, y, p, y[0] - track)
+        vals = _wheel(sign, y, p, surf, y[0] - track)
         for k in range(7):
             out[8 * w + k] = vals[k]
         out[8 * w + 7] = sign * (y[0] - track)
@@ -337,7 +370,7 @@ def table_wheelset_outputs(t, y, p, surf, out):
 
 # ---- bogie ----------------------------------------------------------------------------------
 @njit(cache=True, inline="always")
-def _bogie_wheelset(i, y, p):
+def _bogie_wheelset(i, y, p, surf):
     """Creep and flange forces on wheelset ``i`` (0 front, 1 rear) of the bogie:
     ``(Fy, Mz, power_left, power_right, flange)`` summed over both wheels."""
     lat, yaw, vlat, vyaw = y[2 * i], y[2 * i + 1], y[6 + 2 * i], y[7 + 2 * i]
@@ -350,7 +383,8 @@ def _bogie_wheelset(i, y, p):
         sign = 1.0 - 2.0 * w
         _, _, _, fx, fyw, mzw, power = _creep(
             sign, lat, yaw, vlat, vyaw, p[BG_SPEED], p[BG_HALF_GAUGE], p[BG_ROLLING_RADIUS], p[BG_CONICITY],
-            p[BG_F11], p[BG_F22], p[BG_F23], p[BG_F33], limit,
+            p[BG_F11], p[BG_F22], p[BG_F23], p[BG_F33], limit, 0.0, p[BG_LAW], surf, int(p[BG_LAW_OFFSET]),
+            int(p[BG_LAW_POINTS]),
         )
         fy += fyw
         mz += mzw - sign * p[BG_HALF_GAUGE] * fx
@@ -377,7 +411,7 @@ def bogie_rhs(t, y, p, surf, dydt):
     frame_moment = -p[BG_SECONDARY_YAW_STIFFNESS] * y[5] - p[BG_SECONDARY_YAW_DAMPING] * y[11]
     for i in range(2):
         x = b if i == 0 else -b
-        fy, mz, _, _, _ = _bogie_wheelset(i, y, p)
+        fy, mz, _, _, _ = _bogie_wheelset(i, y, p, surf)
         deflection = y[2 * i] - y[4] - x * y[5]
         twist = y[2 * i + 1] - y[5]
         dydt[6 + 2 * i] = (fy - k1 * deflection) / p[BG_WHEELSET_MASS]
@@ -394,7 +428,7 @@ def bogie_rhs(t, y, p, surf, dydt):
 def bogie_outputs(t, y, p, surf, out):
     """Outputs per time: per wheelset (front 0-4, rear 5-9) ``power_left, power_right, flange, Fy, Mz``."""
     for i in range(2):
-        fy, mz, power_left, power_right, flange = _bogie_wheelset(i, y, p)
+        fy, mz, power_left, power_right, flange = _bogie_wheelset(i, y, p, surf)
         out[5 * i + 0] = power_left
         out[5 * i + 1] = power_right
         out[5 * i + 2] = flange

@@ -64,12 +64,21 @@ def wheelset_state_matrix(
     f33=0.0,
     lateral_damping=0.0,
     yaw_damping=0.0,
+    spin_inertia=math.inf,
 ) -> np.ndarray:
-    """State matrix ``A`` (4x4, state ``[y, psi, y', psi']``) of the linear wheelset at ``speed`` [m/s]."""
+    """State matrix ``A`` (4x4, state ``[y, psi, y', psi']``) of the linear wheelset at ``speed`` [m/s].
+
+    With a finite axle ``spin_inertia`` J [kg m^2] the spin deviation ``omega`` is a fifth state
+    (5x5). The spin deviation enters both wheels' longitudinal creepages alike
+    (``-omega r0 / V``), so it leaves the yaw moment unchanged, and the antisymmetric creepages of
+    ``y`` and ``psi'`` exert no net torque: to first order ``omega`` decouples, with the eigenvalue
+    ``-2 f11 r0^2 / (J V)``, and the other four eigenvalues are those without it.
+    """
     v = float(speed)
     m, inertia = float(mass), float(yaw_inertia)
     e, r0, lam = float(half_gauge), float(rolling_radius), float(conicity)
-    a = np.zeros((4, 4))
+    spin = math.isfinite(spin_inertia)
+    a = np.zeros((5, 5) if spin else (4, 4))
     a[0, 2] = 1.0
     a[1, 3] = 1.0
     # lateral force: -2 f22 (y'/V - psi) - 2 f23 psi'/V - c_y y' - k_y y
@@ -82,6 +91,9 @@ def wheelset_state_matrix(
     a[3, 1] = -(2.0 * f23 + yaw_stiffness) / inertia
     a[3, 2] = 2.0 * f23 / (v * inertia)
     a[3, 3] = -(2.0 * f11 * e * e / v + 2.0 * f33 / v + yaw_damping) / inertia
+    if spin:
+        # J omega' = -r0 (Fx_L + Fx_R), Fx = f11 omega r0 / V on each wheel
+        a[4, 4] = -2.0 * f11 * r0 * r0 / (spin_inertia * v)
     return a
 
 

@@ -85,6 +85,11 @@ class WheelsetModel:
     outside the dead band ``|y| <= flange_clearance``. The frame moves at ``speed`` [m/s].
     ``lateral_irregularity``: optional lateral alignment of the track [m] at equally spaced
     points over ``irregularity_wavelength`` [m], repeated periodically.
+    ``spin_inertia`` [kg m^2]: the axle's polar inertia; finite, it adds the spin deviation
+    ``omega`` [rad/s] from ``V / r0`` as a fifth state (start ``initial_spin_deviation``), driven
+    by the torque of the longitudinal creep forces; ``inf`` (default): constant spin ``V / r0``.
+    ``creep_law``: ``"cubic"`` (Johnson-Vermeulen saturation) or ``"fastsim"`` (FASTSIM's
+    creep curve, see ``_fastsim_factor_table``).
     """
 
     mass: float
@@ -111,10 +116,18 @@ class WheelsetModel:
     initial_yaw_rate: float = 0.0
     lateral_irregularity: tuple | None = None
     irregularity_wavelength: float = 100.0
+    spin_inertia: float = math.inf
+    initial_spin_deviation: float = 0.0
+    creep_law: str = "cubic"
 
     kind = k.KIND_WHEELSET
-    n_states = 4
+    CREEP_LAWS = ("cubic", "fastsim")
     default_atol = 1e-10
+
+    @property
+    def n_states(self) -> int:
+        """4, or 5 with the spin deviation state (finite ``spin_inertia``)."""
+        return 4 if self.spin_inertia == math.inf else 5
 
     def __post_init__(self):
         _check(
@@ -127,13 +140,14 @@ class WheelsetModel:
             finite=(
                 "lateral_stiffness", "yaw_stiffness", "f11", "f22", "f23", "f33", "conicity",
                 "lateral_damping", "yaw_damping", "flange_stiffness", "initial_lateral_displacement",
-                "initial_yaw_angle", "initial_lateral_velocity", "initial_yaw_rate",
+                "initial_yaw_angle", "initial_lateral_velocity", "initial_yaw_rate", "initial_spin_deviation",
             ),
         )
-        for name in ("friction_coefficient", "flange_clearance"):
+        for name in ("friction_coefficient", "flange_clearance", "spin_inertia"):
             if not _number(self, name) > 0.0:
                 raise ScenarioError(f"{name}: must be positive (inf to switch it off), got {getattr(self, name)!r}")
         _check(self, positive=("irregularity_wavelength",))
+        _check_creep_law(self)
         if self.lateral_irregularity is not None:
             values = np.asarray(self.lateral_irregularity, dtype=float)
             if values.ndim != 1 or values.size < 2 or not np.all(np.isfinite(values)):
@@ -143,35 +157,39 @@ class WheelsetModel:
     def params(self, speed=None) -> np.ndarray:
         """Parameter array for ``kernels.wheelset_rhs`` (``speed`` overrides the model's)."""
         cells = 0 if self.lateral_irregularity is None else len(self.lateral_irregularity)
-        return _pack(self, "WS_", k.WS_N_PARAMS, speed, irregularity_cells=cells)
+        return _pack(self, "WS_", k.WS_N_PARAMS, speed, irregularity_cells=cells, **_law_params(self, cells))
 
     def surface(self) -> np.ndarray:
-        """The lateral track alignment ``y_t`` [m] at ``j L / n`` along one wavelength ``L``."""
-        return np.zeros(0) if self.lateral_irregularity is None else np.array(self.lateral_irregularity)
+        """The lateral track alignment ``y_t`` [m] at ``j L / n`` along one wavelength ``L``,
+        followed by the FASTSIM factor table where that creep law is chosen."""
+        track = np.zeros(0) if self.lateral_irregularity is None else np.array(self.lateral_irregularity)
+        return np.concatenate([track, _law_table(self)])
 
     def initial_state(self) -> np.ndarray:
-        return np.array(
-            [self.initial_lateral_displacement, self.initial_yaw_angle, self.initial_lateral_velocity, self.initial_yaw_rate],
-            dtype=float,
-        )
+        y = [self.initial_lateral_displacement, self.initial_yaw_angle, self.initial_lateral_velocity,
+             self.initial_yaw_rate, self.initial_spin_deviation]
+        return np.array(y[:self.n_states], dtype=float)
 
     def state_matrix(self, speed=None) -> np.ndarray:
-        """Linearisation about the centred rolling state at ``speed`` (default the model's)."""
+        """Linearisation about the centred rolling state at ``speed`` (default the model's); with
+        the spin state 5x5. Under FASTSIM the creep coefficients carry its linear slope."""
+        slope = _linear_slope(self)
         return wheelset_state_matrix(
             self.speed if speed is None else speed,
             self.mass,
             self.yaw_inertia,
             self.lateral_stiffness,
             self.yaw_stiffness,
-            self.f11,
-            self.f22,
+            slope * self.f11,
+            slope * self.f22,
             self.half_gauge,
             self.rolling_radius,
             self.conicity,
-            f23=self.f23,
-            f33=self.f33,
+            f23=slope * self.f23,
+            f33=slope * self.f33,
             lateral_damping=self.lateral_damping,
             yaw_damping=self.yaw_damping,
+            spin_inertia=self.spin_inertia,
         )
 
     def klingel_wavelength(self) -> float:
@@ -301,7 +319,8 @@ class BogieModel:
     conical wheelsets (``x = +-half_wheelbase``) and of the frame, which hangs from a car body moving
     at ``speed`` through a secondary lateral and yaw spring-damper. Primary: a lateral spring per
     wheelset and a yaw spring per wheelset (``2 k_longitudinal d^2``). Creep, saturation and flange
-    dead band as in ``WheelsetModel``. ``BogieModel.cooperrider`` gives the published parameters.
+    dead band as in ``WheelsetModel`` (``creep_law`` ``"cubic"`` or ``"fastsim"``).
+    ``BogieModel.cooperrider`` gives the published parameters.
     """
 
     speed: float
@@ -328,8 +347,10 @@ class BogieModel:
     flange_clearance: float = math.inf
     flange_stiffness: float = 0.0
     initial_lateral_displacement: float = 1e-3
+    creep_law: str = "cubic"
 
     kind = k.KIND_BOGIE
+    CREEP_LAWS = ("cubic", "fastsim")
     n_states = 12
     default_atol = 1e-10
 
@@ -350,6 +371,7 @@ class BogieModel:
         for name in ("friction_coefficient", "flange_clearance"):
             if not _number(self, name) > 0.0:
                 raise ScenarioError(f"{name}: must be positive (inf to switch it off), got {getattr(self, name)!r}")
+        _check_creep_law(self)
 
     @classmethod
     def cooperrider(cls, speed, **overrides):
@@ -377,10 +399,10 @@ class BogieModel:
 
     def params(self, speed=None) -> np.ndarray:
         """Parameter array for ``kernels.bogie_rhs`` (``speed`` overrides the model's)."""
-        return _pack(self, "BG_", k.BG_N_PARAMS, speed)
+        return _pack(self, "BG_", k.BG_N_PARAMS, speed, **_law_params(self, 0))
 
     def surface(self) -> np.ndarray:
-        return np.zeros(0)
+        return _law_table(self)
 
     def initial_state(self) -> np.ndarray:
         y = np.zeros(self.n_states)
@@ -393,7 +415,28 @@ class BogieModel:
         p[k.BG_FRICTION] = math.inf
         if not self.flange_clearance > 1e-6:
             raise ScenarioError("flange_clearance: the linearisation needs a dead band wider than 1 um")
-        return numerical_state_matrix(self.kind, p, self.n_states)
+        return numerical_state_matrix(self.kind, p, self.n_states, self.surface())
+
+
+def _check_creep_law(model):
+    if model.creep_law not in model.CREEP_LAWS:
+        raise ScenarioError(f"creep_law: must be one of {model.CREEP_LAWS}, got {model.creep_law!r}")
+
+
+def _law_table(model) -> np.ndarray:
+    """The kernel's FASTSIM factor table for ``model`` (empty under the cubic law)."""
+    return _fastsim_factor_table().copy() if model.creep_law == "fastsim" else np.zeros(0)
+
+
+def _law_params(model, offset) -> dict:
+    """``_pack`` values selecting the creep law, its table at ``offset`` in the surface array."""
+    return dict(law=model.CREEP_LAWS.index(model.creep_law), law_offset=offset, law_points=_law_table(model).size)
+
+
+def _linear_slope(model) -> float:
+    """Ratio of the creep law's small-creepage forces to Kalker's: 1 for the cubic law, FASTSIM's
+    discretised slope (``1 + 1 / (2 ny^2)``, ``ny`` strips) for ``"fastsim"``."""
+    return float(_fastsim_factor_table()[0]) if model.creep_law == "fastsim" else 1.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -700,7 +743,17 @@ def model_fields(model) -> dict:
 
 
 _CREEP_CURVE_POINTS = 257
-_creep_curve_cache = []
+_creep_curve_cache = {}
+
+
+def _fastsim_ratio(s) -> float:
+    """FASTSIM's ``F / (mu N)`` for pure longitudinal creepage at ``s = f11 xi / (mu N)`` (elliptic
+    traction bound, the default 40 x 40 grid, on a fixed patch: the ratio depends on ``s`` only)."""
+    from railwear.contact import fastsim, kalker_coefficients
+
+    a, b, normal, mu, shear, poisson = 6e-3, 6e-3, 1e5, 0.3, 8e10, 0.28
+    f11 = shear * a * b * float(kalker_coefficients(a / b, poisson)[0])
+    return -fastsim(a, b, normal, s * mu * normal / f11, 0.0, 0.0, mu, shear, poisson).Fx / (mu * normal)
 
 
 def _fastsim_creep_curve():
@@ -708,19 +761,32 @@ def _fastsim_creep_curve():
     on ``_CREEP_CURVE_POINTS`` equal steps, ``s = f11 xi / (mu N)`` (``r = 1``: full slip, 1).
     With the elliptic traction bound the curve does not depend on the load, the friction
     coefficient, the modulus or the patch shape, so one evaluation serves every model."""
-    if not _creep_curve_cache:
-        from railwear.contact import fastsim, kalker_coefficients
-
-        a, b, normal, mu, shear, poisson = 6e-3, 6e-3, 1e5, 0.3, 8e10, 0.28
-        f11 = shear * a * b * float(kalker_coefficients(a / b, poisson)[0])
+    if "curve" not in _creep_curve_cache:
         r = np.linspace(0.0, 1.0, _CREEP_CURVE_POINTS)
         curve = np.ones_like(r)
         for i, ri in enumerate(r[:-1]):
-            xi = ri / (1.0 - ri) * mu * normal / f11
-            curve[i] = -fastsim(a, b, normal, xi, 0.0, 0.0, mu, shear, poisson).Fx / (mu * normal)
+            curve[i] = _fastsim_ratio(ri / (1.0 - ri))
         curve.setflags(write=False)
-        _creep_curve_cache.append(curve)
-    return _creep_curve_cache[0]
+        _creep_curve_cache["curve"] = curve
+    return _creep_curve_cache["curve"]
+
+
+def _fastsim_factor_table():
+    """FASTSIM as a factor on Kalker's linear forces, ``F / F_lin = (F / (mu N)) / s``, on the
+    grid of ``_fastsim_creep_curve`` (``kernels.creep_factor``). Without spin FASTSIM's traction
+    keeps the direction of ``(f11 xi, f22 eta)`` and its magnitude depends on
+    ``s = |(f11 xi, f22 eta)| / (mu N)`` alone, so the factor is exact for combined ``xi, eta``.
+    At ``s = 0`` it is FASTSIM's linear slope, ``1 + 1 / (2 ny^2)`` for ``ny`` strips."""
+    if "factor" not in _creep_curve_cache:
+        r = np.linspace(0.0, 1.0, _CREEP_CURVE_POINTS)
+        factor = np.zeros_like(r)
+        inner = slice(1, -1)
+        factor[inner] = _fastsim_creep_curve()[inner] * (1.0 - r[inner]) / r[inner]
+        tiny = 1e-9
+        factor[0] = _fastsim_ratio(tiny) / tiny
+        factor.setflags(write=False)
+        _creep_curve_cache["factor"] = factor
+    return _creep_curve_cache["factor"]
 
 
 def contact_constants(static_load, A, B, youngs_modulus, poisson) -> dict:

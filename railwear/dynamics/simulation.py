@@ -232,6 +232,8 @@ def _wheelset_variables(model, ts, ys, out):
 def _wheelset_dataset(model, ts, ys, p, surf):
     out = k.outputs(model.kind, ts, ys, p, surf, k.WS_N_OUTPUTS)
     data, coords = _wheelset_variables(model, ts, ys, out)
+    if model.n_states > 4:
+        data["spin_deviation"] = _var("time", ys[:, 4], "rad s-1", "axle angular velocity minus V / r0")
     data.update({
         "contact_lateral_position": _var(("time", "wheel"), np.stack([out[:, 7], out[:, 15]], axis=1), "m",
                                          "lateral contact position on the tread, towards the flange"),

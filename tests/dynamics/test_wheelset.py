@@ -58,9 +58,11 @@ def test_kinematic_limit_has_klingel_wavelength():
     assert wavelength == pytest.approx(model.klingel_wavelength(), rel=0.02)
 
 
-def test_small_motion_grows_at_the_eigenvalue_rate():
-    """Just above Vc the envelope of a tiny motion grows at the largest real part."""
-    model = WheelsetModel(speed=1.1 * VC, **BASE, **NONLINEAR, initial_lateral_displacement=1e-7)
+@pytest.mark.parametrize("creep_law", ["cubic", "fastsim"])
+def test_small_motion_grows_at_the_eigenvalue_rate(creep_law):
+    """Just above Vc the envelope of a tiny motion grows at the largest real part (under FASTSIM,
+    of the state matrix with FASTSIM's linear slope)."""
+    model = WheelsetModel(speed=1.1 * VC, **BASE, **NONLINEAR, initial_lateral_displacement=1e-7, creep_law=creep_law)
     ds = simulate(model, 1.5, n_output=30001, rtol=1e-10)
     t, y = ds.time.values, ds.lateral_displacement.values
     peaks = np.nonzero((y[1:-1] > y[:-2]) & (y[1:-1] > y[2:]))[0] + 1
