@@ -2,7 +2,8 @@
 
 - ``linear_critical_speed``: closed-form critical speed of the linear wheelset;
 - ``critical_speed(model)``: from the eigenvalue crossing of ``model.state_matrix(speed)``;
-- ``WheelsetModel``, ``TableWheelsetModel`` (real profiles), ``DiskWheelModel``, ``BogieModel``:
+- ``WheelsetModel``, ``TableWheelsetModel`` (real profiles), ``DiskWheelModel``, ``BogieModel``,
+  ``TableBogieModel`` (real profiles):
   frozen, validated model dataclasses;
 - ``build_model(kind, section)``: a model from a scenario section (unknown/missing fields are errors);
 - ``simulate(model, t_end, **options)``: a run into an ``xarray.Dataset`` (CF units, long names);
@@ -19,6 +20,7 @@ from railwear.dynamics.linear import critical_speed, linear_critical_speed, max_
 from railwear.dynamics.models import (
     BogieModel,
     DiskWheelModel,
+    TableBogieModel,
     TableWheelsetModel,
     WheelsetModel,
     build_model,
@@ -31,6 +33,7 @@ __all__ = [
     "BogieModel",
     "RampDown",
     "DiskWheelModel",
+    "TableBogieModel",
     "TableWheelsetModel",
     "WheelsetModel",
     "build_model",

@@ -269,12 +269,14 @@ def wheelset_outputs(t, y, p, surf, out):
 
 
 # ---- wheelset on real profiles --------------------------------------------------------------
+# The table helpers read the TW_* parameters at offset ``o`` in ``p`` (0 for the table wheelset,
+# BG_N_PARAMS for the table bogie, whose wheelsets share one table).
 @njit(cache=True, inline="always")
-def _table_value(surf, p, side, field, lateral):
+def _table_value(surf, p, o, side, field, lateral):
     """Linear interpolation of table column ``field`` of wheel ``side`` (0 left, 1 right) at the
     lateral displacement ``lateral``, clamped to the table's range."""
-    n = int(p[TW_N_POINTS])
-    pos = (lateral - p[TW_Y_MIN]) / p[TW_DY]
+    n = int(p[o + TW_N_POINTS])
+    pos = (lateral - p[o + TW_Y_MIN]) / p[o + TW_DY]
     if pos <= 0.0:
         pos = 0.0
     elif pos >= n - 1:
@@ -286,27 +288,27 @@ def _table_value(surf, p, side, field, lateral):
 
 
 @njit(cache=True, inline="always")
-def _table_wheel(side, y, p, surf, ratio):
+def _table_wheel(side, lat, yaw, vlat, vyaw, p, o, surf, ratio):
     """Creep of one wheel from the contact table: returns ``(xi, eta, phi, Fx, Feta, Mz, power, N,
     delta)``. ``ratio = (r_R - r_L) / (r_L + r_R)`` (quasi-static axle spin ``2 V / (r_L + r_R)``).
     Creepages in the contact plane: ``xi = -+ratio -+ e psi'/V`` (upper sign left),
     ``eta = (y'/V - psi) / cos(delta)``, ``phi = psi' cos(delta) / V -+ sin(delta) / r``."""
-    v = p[TW_SPEED]
+    v = p[o + TW_SPEED]
     sign = 1.0 - 2.0 * side
-    radius = _table_value(surf, p, side, 0, y[0])
-    delta = _table_value(surf, p, side, 1, y[0])
-    normal = _table_value(surf, p, side, 2, y[0])
-    scale = p[TW_CREEP_SCALE]
+    radius = _table_value(surf, p, o, side, 0, lat)
+    delta = _table_value(surf, p, o, side, 1, lat)
+    normal = _table_value(surf, p, o, side, 2, lat)
+    scale = p[o + TW_CREEP_SCALE]
     cosd = math.cos(delta)
     sind = math.sin(delta)
-    xi = sign * (ratio - p[TW_HALF_GAUGE] * y[3] / v)
-    eta = (y[2] / v - y[1]) / cosd
-    phi = y[3] * cosd / v - sign * sind / radius
-    f23 = scale * _table_value(surf, p, side, 5, y[0])
-    fx = -scale * _table_value(surf, p, side, 3, y[0]) * xi
-    fy = -scale * _table_value(surf, p, side, 4, y[0]) * eta - f23 * phi
-    mz = f23 * eta - scale * _table_value(surf, p, side, 6, y[0]) * phi
-    s = saturation_factor(math.sqrt(fx * fx + fy * fy), p[TW_FRICTION] * normal)
+    xi = sign * (ratio - p[o + TW_HALF_GAUGE] * vyaw / v)
+    eta = (vlat / v - yaw) / cosd
+    phi = vyaw * cosd / v - sign * sind / radius
+    f23 = scale * _table_value(surf, p, o, side, 5, lat)
+    fx = -scale * _table_value(surf, p, o, side, 3, lat) * xi
+    fy = -scale * _table_value(surf, p, o, side, 4, lat) * eta - f23 * phi
+    mz = f23 * eta - scale * _table_value(surf, p, o, side, 6, lat) * phi
+    s = saturation_factor(math.sqrt(fx * fx + fy * fy), p[o + TW_FRICTION] * normal)
     fx *= s
     fy *= s
     mz *= s
@@ -314,27 +316,42 @@ def _table_wheel(side, y, p, surf, ratio):
 
 
 @njit(cache=True, inline="always")
-def _table_forces(y, p, surf):
-    """Lateral force and yaw moment of both contacts on the wheelset (no suspension)."""
-    r_left = _table_value(surf, p, 0, 0, y[0])
-    r_right = _table_value(surf, p, 1, 0, y[0])
-    ratio = (r_right - r_left) / (r_left + r_right)
+def _radius_ratio(surf, p, o, lat):
+    """``(r_R - r_L) / (r_L + r_R)`` and ``r_L + r_R`` at ``lat``."""
+    r_left = _table_value(surf, p, o, 0, 0, lat)
+    r_right = _table_value(surf, p, o, 1, 0, lat)
+    return (r_right - r_left) / (r_left + r_right), r_left + r_right
+
+
+@njit(cache=True, inline="always")
+def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
+    """Contact forces on a wheelset on real profiles (no suspension): ``(lateral force, yaw
+    moment, power left, power right, lateral component of the normal forces)``."""
+    ratio, _ = _radius_ratio(surf, p, o, lat)
     force = 0.0
     moment = 0.0
+    normal_lateral = 0.0
+    power_left = 0.0
+    power_right = 0.0
     for side in range(2):
         sign = 1.0 - 2.0 * side
-        _, _, _, fx, fy, mz, _, normal, delta = _table_wheel(side, y, p, surf, ratio)
+        _, _, _, fx, fy, mz, power, normal, delta = _table_wheel(side, lat, yaw, vlat, vyaw, p, o, surf, ratio)
         cosd = math.cos(delta)
         # the normal force leans towards the track centre by the contact angle
-        force += fy * cosd - sign * normal * math.sin(delta)
-        moment += mz * cosd - sign * p[TW_HALF_GAUGE] * fx
-    lo = p[TW_Y_MIN]
-    hi = lo + (p[TW_N_POINTS] - 1.0) * p[TW_DY]
-    if y[0] > hi:
-        force -= p[TW_OUTSIDE_STIFFNESS] * (y[0] - hi)
-    elif y[0] < lo:
-        force -= p[TW_OUTSIDE_STIFFNESS] * (y[0] - lo)
-    return force, moment
+        normal_lateral -= sign * normal * math.sin(delta)
+        force += fy * cosd
+        moment += mz * cosd - sign * p[o + TW_HALF_GAUGE] * fx
+        if side == 0:
+            power_left = power
+        else:
+            power_right = power
+    lo = p[o + TW_Y_MIN]
+    hi = lo + (p[o + TW_N_POINTS] - 1.0) * p[o + TW_DY]
+    if lat > hi:
+        normal_lateral -= p[o + TW_OUTSIDE_STIFFNESS] * (lat - hi)
+    elif lat < lo:
+        normal_lateral -= p[o + TW_OUTSIDE_STIFFNESS] * (lat - lo)
+    return force + normal_lateral, moment, power_left, power_right, normal_lateral
 
 
 @njit(cache=True)
@@ -343,7 +360,7 @@ def table_wheelset_rhs(t, y, p, surf, dydt):
     contact angles, normal loads and Kalker coefficients from the contact table at ``y``; the
     lateral components of the normal forces give the gravitational stiffness and, in flange
     contact, the flange force."""
-    force, moment = _table_forces(y, p, surf)
+    force, moment, _, _, _ = _table_forces(y[0], y[1], y[2], y[3], p, 0, surf)
     dydt[0] = y[2]
     dydt[1] = y[3]
     dydt[2] = (force - p[TW_LATERAL_STIFFNESS] * y[0] - p[TW_LATERAL_DAMPING] * y[2]) / p[TW_MASS]
@@ -355,17 +372,15 @@ def table_wheelset_outputs(t, y, p, surf, out):
     """Outputs: per wheel (left 0-7, right 8-15) ``xi, eta, phi, Fx, Feta, Mz, power, N``;
     16 rolling radius difference left - right; 17, 18 contact position on the left and right
     wheel profile; 19 contact angle on the wheel ``x = 2 V t / (r_L + r_R) mod 2 pi``."""
-    r_left = _table_value(surf, p, 0, 0, y[0])
-    r_right = _table_value(surf, p, 1, 0, y[0])
-    ratio = (r_right - r_left) / (r_left + r_right)
+    ratio, radii = _radius_ratio(surf, p, 0, y[0])
     for side in range(2):
-        vals = _table_wheel(side, y, p, surf, ratio)
+        vals = _table_wheel(side, y[0], y[1], y[2], y[3], p, 0, surf, ratio)
         for k in range(8):
             out[8 * side + k] = vals[k]
-    out[16] = r_left - r_right
-    out[17] = _table_value(surf, p, 0, 7, y[0])
-    out[18] = _table_value(surf, p, 1, 7, y[0])
-    out[19] = (2.0 * p[TW_SPEED] * t / (r_left + r_right)) % TWO_PI
+    out[16] = -ratio * radii
+    out[17] = _table_value(surf, p, 0, 0, 7, y[0])
+    out[18] = _table_value(surf, p, 0, 1, 7, y[0])
+    out[19] = (2.0 * p[TW_SPEED] * t / radii) % TWO_PI
 
 
 # ---- bogie ----------------------------------------------------------------------------------
@@ -396,9 +411,31 @@ def _bogie_wheelset(i, y, p, surf):
     return fy + flange, mz, power_left, power_right, flange
 
 
+@njit(cache=True, inline="always")
+def _bogie_contact(table, i, y, p, surf):
+    """``(Fy, Mz, power_left, power_right, flange)`` of wheelset ``i``: conical wheels, or real
+    profiles through the contact table (``table``; ``flange`` is then the lateral component of
+    the normal forces)."""
+    if table:
+        return _table_forces(y[2 * i], y[2 * i + 1], y[6 + 2 * i], y[7 + 2 * i], p, BG_N_PARAMS, surf)
+    return _bogie_wheelset(i, y, p, surf)
+
+
 @njit(cache=True)
 def bogie_rhs(t, y, p, surf, dydt):
-    """Two-axle bogie (Cooperrider): state ``[y1, psi1, y2, psi2, y_f, psi_f]`` and their rates.
+    """Two-axle bogie (Cooperrider) with conical wheels; see ``_bogie_motion``."""
+    _bogie_motion(False, y, p, surf, dydt)
+
+
+@njit(cache=True)
+def table_bogie_rhs(t, y, p, surf, dydt):
+    """Two-axle bogie on real profiles (both wheelsets read one contact table); see ``_bogie_motion``."""
+    _bogie_motion(True, y, p, surf, dydt)
+
+
+@njit(cache=True, inline="always")
+def _bogie_motion(table, y, p, surf, dydt):
+    """Two-axle bogie: state ``[y1, psi1, y2, psi2, y_f, psi_f]`` and their rates.
 
     Wheelset ``i`` at ``x_i = +b`` (front) or ``-b`` (rear): ``m y_i'' = Fy_i - k1 (y_i - y_f - x_i psi_f)``,
     ``I psi_i'' = Mz_i - k_psi (psi_i - psi_f)``; frame: ``m_f y_f'' = sum k1 d_i - k4 y_f - D1 y_f'``,
@@ -411,7 +448,7 @@ def bogie_rhs(t, y, p, surf, dydt):
     frame_moment = -p[BG_SECONDARY_YAW_STIFFNESS] * y[5] - p[BG_SECONDARY_YAW_DAMPING] * y[11]
     for i in range(2):
         x = b if i == 0 else -b
-        fy, mz, _, _, _ = _bogie_wheelset(i, y, p, surf)
+        fy, mz, _, _, _ = _bogie_contact(table, i, y, p, surf)
         deflection = y[2 * i] - y[4] - x * y[5]
         twist = y[2 * i + 1] - y[5]
         dydt[6 + 2 * i] = (fy - k1 * deflection) / p[BG_WHEELSET_MASS]
@@ -425,10 +462,11 @@ def bogie_rhs(t, y, p, surf, dydt):
 
 
 @njit(cache=True)
-def bogie_outputs(t, y, p, surf, out):
-    """Outputs per time: per wheelset (front 0-4, rear 5-9) ``power_left, power_right, flange, Fy, Mz``."""
+def bogie_outputs(table, y, p, surf, out):
+    """Outputs per time: per wheelset (front 0-4, rear 5-9) ``power_left, power_right, flange, Fy, Mz``
+    (``table``: on real profiles, ``flange`` the lateral component of the normal forces)."""
     for i in range(2):
-        fy, mz, power_left, power_right, flange = _bogie_wheelset(i, y, p, surf)
+        fy, mz, power_left, power_right, flange = _bogie_contact(table, i, y, p, surf)
         out[5 * i + 0] = power_left
         out[5 * i + 1] = power_right
         out[5 * i + 2] = flange
@@ -668,6 +706,8 @@ def rhs_inline(kind, t, y, p, surf, dydt):
         bogie_rhs(t, y, p, surf, dydt)
     elif kind == KIND_TABLE_WHEELSET:
         table_wheelset_rhs(t, y, p, surf, dydt)
+    elif kind == KIND_TABLE_BOGIE:
+        table_bogie_rhs(t, y, p, surf, dydt)
     elif kind == KIND_LINEAR:
         linear_rhs(t, y, p, surf, dydt)
     elif kind == KIND_VAN_DER_POL:
@@ -691,8 +731,8 @@ def outputs(kind, ts, ys, p, surf, n_out):
             wheelset_outputs(ts[i], ys[i], p, surf, res[i])
         elif kind == KIND_DISK_WHEEL:
             disk_wheel_outputs(ts[i], ys[i], p, surf, res[i])
-        elif kind == KIND_BOGIE:
-            bogie_outputs(ts[i], ys[i], p, surf, res[i])
+        elif kind == KIND_BOGIE or kind == KIND_TABLE_BOGIE:
+            bogie_outputs(kind == KIND_TABLE_BOGIE, ys[i], p, surf, res[i])
         elif kind == KIND_TABLE_WHEELSET:
             table_wheelset_outputs(ts[i], ys[i], p, surf, res[i])
     return res

@@ -21,6 +21,7 @@ __all__ = [
     "BogieModel",
     "DiskWheelModel",
     "MODEL_KINDS",
+    "TableBogieModel",
     "TableWheelsetModel",
     "WheelsetModel",
     "build_model",
@@ -242,8 +243,7 @@ class TableWheelsetModel:
         object.__setattr__(self, "_geometry", _table_arrays(self.table, bool(self.spin)))
 
     def params(self, speed=None) -> np.ndarray:
-        y, surf, e0 = self._geometry
-        return _pack(self, "TW_", k.TW_N_PARAMS, speed, half_gauge=e0, y_min=y[0], dy=y[1] - y[0], n_points=y.size)
+        return _table_params(self, speed)
 
     def surface(self) -> np.ndarray:
         return self._geometry[1]
@@ -257,6 +257,14 @@ class TableWheelsetModel:
         p = self.params(speed)
         p[k.TW_FRICTION] = math.inf
         return numerical_state_matrix(self.kind, p, self.n_states, self.surface())
+
+
+def _table_params(model, speed, **derived):
+    """The ``TW_*`` parameter array of a model on real profiles (its ``_geometry`` from
+    ``_table_arrays``); ``derived`` fills what the model's fields do not."""
+    y, _, e0 = model._geometry
+    return _pack(model, "TW_", k.TW_N_PARAMS, speed, half_gauge=e0, y_min=y[0], dy=y[1] - y[0], n_points=y.size,
+                 **derived)
 
 
 def _table_arrays(table, spin=True):
@@ -314,14 +322,9 @@ def numerical_state_matrix(kind, params, n_states, surf=None, step=1e-7) -> np.n
 
 
 @dataclass(frozen=True)
-class BogieModel:
-    """Two-axle bogie on straight track (the Cooperrider bogie): lateral and yaw motion of two
-    conical wheelsets (``x = +-half_wheelbase``) and of the frame, which hangs from a car body moving
-    at ``speed`` through a secondary lateral and yaw spring-damper. Primary: a lateral spring per
-    wheelset and a yaw spring per wheelset (``2 k_longitudinal d^2``). Creep, saturation and flange
-    dead band as in ``WheelsetModel`` (``creep_law`` ``"cubic"`` or ``"fastsim"``).
-    ``BogieModel.cooperrider`` gives the published parameters.
-    """
+class _BogieFrame:
+    """The fields every bogie has: speed [m/s], masses [kg], yaw inertias [kg m^2], primary and
+    secondary stiffnesses [N/m, N m/rad] and dampings [N s/m, N m s/rad], half wheelbase [m]."""
 
     speed: float
     wheelset_mass: float
@@ -335,6 +338,34 @@ class BogieModel:
     secondary_yaw_stiffness: float
     secondary_yaw_damping: float
     half_wheelbase: float
+
+    n_states = 12
+    default_atol = 1e-10
+
+    def initial_state(self) -> np.ndarray:
+        """The front wheelset displaced by ``initial_lateral_displacement`` [m], all else at rest."""
+        y = np.zeros(self.n_states)
+        y[0] = self.initial_lateral_displacement
+        return y
+
+    def _check_frame(self, positive=(), nonnegative=(), finite=()):
+        springs = ("primary_lateral_stiffness", "primary_yaw_stiffness", "secondary_lateral_stiffness",
+                   "secondary_lateral_damping", "secondary_yaw_stiffness", "secondary_yaw_damping")
+        _check(self, positive=("speed", "wheelset_mass", "wheelset_yaw_inertia", "frame_mass", "frame_yaw_inertia",
+                               "half_wheelbase") + positive,
+               nonnegative=springs + nonnegative, finite=springs + ("initial_lateral_displacement",) + finite)
+
+
+@dataclass(frozen=True)
+class BogieModel(_BogieFrame):
+    """Two-axle bogie on straight track (the Cooperrider bogie): lateral and yaw motion of two
+    conical wheelsets (``x = +-half_wheelbase``) and of the frame, which hangs from a car body moving
+    at ``speed`` through a secondary lateral and yaw spring-damper. Primary: a lateral spring per
+    wheelset and a yaw spring per wheelset (``2 k_longitudinal d^2``). Creep, saturation and flange
+    dead band as in ``WheelsetModel`` (``creep_law`` ``"cubic"`` or ``"fastsim"``).
+    ``BogieModel.cooperrider`` gives the published parameters.
+    """
+
     f11: float
     f22: float
     half_gauge: float
@@ -351,23 +382,10 @@ class BogieModel:
 
     kind = k.KIND_BOGIE
     CREEP_LAWS = ("cubic", "fastsim")
-    n_states = 12
-    default_atol = 1e-10
 
     def __post_init__(self):
-        _check(
-            self,
-            positive=(
-                "speed", "wheelset_mass", "wheelset_yaw_inertia", "frame_mass", "frame_yaw_inertia", "half_wheelbase",
-                "half_gauge", "rolling_radius", "wheel_load",
-            ),
-            nonnegative=(
-                "primary_lateral_stiffness", "primary_yaw_stiffness", "secondary_lateral_stiffness",
-                "secondary_lateral_damping", "secondary_yaw_stiffness", "secondary_yaw_damping", "f11", "f22", "f33",
-                "conicity", "flange_stiffness",
-            ),
-            finite=("f23", "initial_lateral_displacement", "primary_lateral_stiffness", "primary_yaw_stiffness"),
-        )
+        self._check_frame(positive=("half_gauge", "rolling_radius", "wheel_load"),
+                          nonnegative=("f11", "f22", "f33", "conicity", "flange_stiffness"), finite=("f23",))
         for name in ("friction_coefficient", "flange_clearance"):
             if not _number(self, name) > 0.0:
                 raise ScenarioError(f"{name}: must be positive (inf to switch it off), got {getattr(self, name)!r}")
@@ -404,17 +422,64 @@ class BogieModel:
     def surface(self) -> np.ndarray:
         return _law_table(self)
 
-    def initial_state(self) -> np.ndarray:
-        y = np.zeros(self.n_states)
-        y[0] = self.initial_lateral_displacement
-        return y
-
     def state_matrix(self, speed=None) -> np.ndarray:
         """Linearisation about centred running (saturation off; the flange dead band is open)."""
         p = self.params(speed)
         p[k.BG_FRICTION] = math.inf
         if not self.flange_clearance > 1e-6:
             raise ScenarioError("flange_clearance: the linearisation needs a dead band wider than 1 um")
+        return numerical_state_matrix(self.kind, p, self.n_states, self.surface())
+
+
+@dataclass(frozen=True, eq=False)
+class TableBogieModel(_BogieFrame):
+    """``BogieModel``'s two-axle bogie with both wheelsets on real profiles: each reads the
+    contact table as ``TableWheelsetModel`` does (rolling radii, contact angles, normal loads,
+    Kalker coefficients; quasi-static axle spin; ``creep_scale``, ``spin``, ``outside_stiffness``
+    as there). ``TableBogieModel.cooperrider(speed, table)`` takes the Cooperrider suspension.
+    """
+
+    table: object
+    friction_coefficient: float = math.inf
+    creep_scale: float = 1.0
+    spin: bool = True
+    outside_stiffness: float = 1e8
+    initial_lateral_displacement: float = 1e-3
+
+    kind = k.KIND_TABLE_BOGIE
+
+    def __post_init__(self):
+        self._check_frame(positive=("creep_scale",), nonnegative=("outside_stiffness",), finite=("outside_stiffness",))
+        if not _number(self, "friction_coefficient") > 0.0:
+            raise ScenarioError(f"friction_coefficient: must be positive (inf for none), got {self.friction_coefficient!r}")
+        object.__setattr__(self, "_geometry", _table_arrays(self.table, bool(self.spin)))
+
+    @classmethod
+    def cooperrider(cls, speed, table, **overrides):
+        """The suspension of ``BogieModel.cooperrider`` on the profiles of ``table``."""
+        published = BogieModel.cooperrider(speed)
+        params = {f.name: getattr(published, f.name) for f in fields(_BogieFrame)}
+        params.update(table=table, **overrides)
+        return cls(**params)
+
+    def params(self, speed=None) -> np.ndarray:
+        """The bogie's ``BG_*`` parameters (the conical contact ones unused, 0) followed by the
+        contact table's ``TW_*`` ones (``kernels.table_bogie_rhs``)."""
+        unused = ("f11", "f22", "f23", "f33", "half_gauge", "rolling_radius", "conicity", "wheel_load",
+                  "flange_clearance", "flange_stiffness", "law", "law_offset", "law_points")
+        bogie = _pack(self, "BG_", k.BG_N_PARAMS, speed, **dict.fromkeys(unused, 0.0))
+        contact = _table_params(self, speed, mass=self.wheelset_mass, yaw_inertia=self.wheelset_yaw_inertia,
+                                lateral_stiffness=self.primary_lateral_stiffness,
+                                yaw_stiffness=self.primary_yaw_stiffness, lateral_damping=0.0, yaw_damping=0.0)
+        return np.concatenate([bogie, contact])
+
+    def surface(self) -> np.ndarray:
+        return self._geometry[1]
+
+    def state_matrix(self, speed=None) -> np.ndarray:
+        """Linearisation about centred running (saturation off), by central differences."""
+        p = self.params(speed)
+        p[k.BG_N_PARAMS + k.TW_FRICTION] = math.inf
         return numerical_state_matrix(self.kind, p, self.n_states, self.surface())
 
 
@@ -817,7 +882,7 @@ def contact_constants(static_load, A, B, youngs_modulus, poisson) -> dict:
 
 
 MODEL_KINDS = {"wheelset": WheelsetModel, "disk_wheel": DiskWheelModel, "bogie": BogieModel,
-               "table_wheelset": TableWheelsetModel}
+               "table_wheelset": TableWheelsetModel, "table_bogie": TableBogieModel}
 
 
 def build_model(kind, section):

@@ -10,7 +10,14 @@ import xarray as xr
 
 from railwear.dynamics import integrators as integ
 from railwear.dynamics import kernels as k
-from railwear.dynamics.models import BogieModel, DiskWheelModel, TableWheelsetModel, WheelsetModel, model_fields
+from railwear.dynamics.models import (
+    BogieModel,
+    DiskWheelModel,
+    TableBogieModel,
+    TableWheelsetModel,
+    WheelsetModel,
+    model_fields,
+)
 from railwear.errors import NumericalInstabilityError, ScenarioError
 
 __all__ = ["simulate", "METHODS"]
@@ -82,8 +89,8 @@ def simulate(
     chunks=None,
     cell_energy=False,
 ) -> xr.Dataset:
-    """Integrate ``model`` (``WheelsetModel``, ``TableWheelsetModel``, ``DiskWheelModel`` or
-    ``BogieModel``) over ``[0, t_end]`` seconds.
+    """Integrate ``model`` (``WheelsetModel``, ``TableWheelsetModel``, ``DiskWheelModel``,
+    ``BogieModel`` or ``TableBogieModel``) over ``[0, t_end]`` seconds.
 
     Output at ``t_eval`` (dense output; default ``n_output`` equidistant times) or every
     ``output_every`` accepted steps. ``method``: ``"dopri5"`` (explicit, default), ``"dop853"`` or
@@ -99,7 +106,7 @@ def simulate(
     deviation grid) adds ``frictional_energy``: the frictional energy [J] each cell of the grid
     received over the run, spread uniformly over the patch as it passes (paper Figs 3 and 7).
     """
-    if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel, TableWheelsetModel)):
+    if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel, TableWheelsetModel, TableBogieModel)):
         raise ScenarioError(f"model: expected one of the railwear.dynamics models, got {type(model).__name__}")
     t_end, method_id, rtol, atol, t_eval, every = _options(
         model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step, max_norm
@@ -164,7 +171,7 @@ def simulate(
     ev_t, ev_dir = np.concatenate(parts_ev_t), np.concatenate(parts_ev_dir)
     if isinstance(model, WheelsetModel):
         ds = _wheelset_dataset(model, ts, ys, p, surf)
-    elif isinstance(model, BogieModel):
+    elif isinstance(model, (BogieModel, TableBogieModel)):
         ds = _bogie_dataset(model, ts, ys, p, surf)
     elif isinstance(model, TableWheelsetModel):
         ds = _table_wheelset_dataset(model, ts, ys, p, surf)
@@ -298,8 +305,11 @@ def _bogie_dataset(model, ts, ys, p, surf):
         "distance": _var("time", model.speed * ts, "m", "distance travelled"),
         "frictional_power_left": _var(tw, both(0), "W", "frictional power in the left wheel's contact"),
         "frictional_power_right": _var(tw, both(1), "W", "frictional power in the right wheel's contact"),
-        "flange_force": _var(tw, both(2), "N", "lateral flange force on the wheelset"),
     }
+    if model.kind == k.KIND_TABLE_BOGIE:
+        data["normal_force_lateral"] = _var(tw, both(2), "N", "lateral component of the normal forces on the wheelset")
+    else:
+        data["flange_force"] = _var(tw, both(2), "N", "lateral flange force on the wheelset")
     coords = {
         "time": _var("time", ts, "s", "time"),
         "wheelset": xr.Variable("wheelset", np.array(["front", "rear"]), {"long_name": "wheelset of the bogie"}),
