@@ -58,6 +58,23 @@ class Fourier:
         H = np.asarray(self.transfer(n * self.wheel_speed), complex)
         return -self.depth_per_driver * H * contact_filter(n, self.half_angle) ** 2
 
+    def odd_terms(self, power, grid_points=None):
+        """Drift ``c`` and dispersion ``d`` (rad/s, rad³/s) of the local law ``c u_x + d u_xxx``
+        closest to these rates: the least-squares fit of ``c n - d n³`` to ``Im λ_n`` over orders
+        ``n = 1..len(power)`` weighted by ``power`` (``|û_n|²``), which is what a least-squares fit
+        over the cells of a geometry with that spectrum finds (Parseval). ``grid_points``: put the
+        filter ``sinc³(n / N)`` of a grid of ``N`` points (u read linearly interpolated, wear
+        gathered on cells) on ``λ_n``."""
+        power = np.asarray(power, float)
+        n = np.arange(1, power.size + 1, dtype=float)
+        target = self.rates(n).imag
+        if grid_points is not None:
+            target = target * np.sinc(n / grid_points) ** 3
+        weight = np.sqrt(power)
+        basis = np.column_stack([n, -(n**3)]) * weight[:, None]
+        drift, dispersion = np.linalg.lstsq(basis, target * weight, rcond=None)[0]
+        return float(drift), float(dispersion)
+
     @property
     def mean_rate(self):
         """Rate of the mean radius (m/s, negative: it wears)."""

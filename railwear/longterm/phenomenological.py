@@ -1,5 +1,5 @@
 """Strategy 4 of the paper: the phenomenological evolution equation ``u_T = h(u_xx; u, u_x, v)``,
-here ``h(u_xx; v) + drift(v) u_x`` (the drift as fitted by :mod:`railwear.longterm.fitting`)."""
+here ``h(u_xx; v) + drift(v) u_x + dispersion(v) u_xxx`` (as fitted by :mod:`railwear.longterm.fitting`)."""
 
 from dataclasses import dataclass, field
 
@@ -13,13 +13,15 @@ from railwear.pde import as_wear_rate, solve_evolution
 @dataclass(frozen=True)
 class Phenomenological:
     """Evolve a wheel's radius deviation under a wear-rate form ``h`` at one or more speeds (m/s),
-    with a drift term ``drift u_x`` (rad per unit normed time; one value or one per speed)."""
+    with the odd terms ``drift u_x + dispersion u_xxx`` (rad and rad³ per unit normed time; one
+    value or one per speed)."""
 
     h: object
     speed: float | np.ndarray
     epsilon: float = 0.0
     nu: float = 0.0
     drift: float | np.ndarray = 0.0
+    dispersion: float | np.ndarray = 0.0
     options: dict = field(default_factory=dict)
 
     def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
@@ -29,7 +31,7 @@ class Phenomenological:
         """
         ds = solve_evolution(u0, until, as_wear_rate(self.h), self.speed, self.epsilon, self.nu,
                              depth_limit=depth_limit, progress=progress, checkpoint=checkpoint,
-                             resume=resume, drift=self.drift, **self.options)
+                             resume=resume, drift=self.drift, dispersion=self.dispersion, **self.options)
         return describe(ds)
 
 

@@ -65,6 +65,13 @@ def _batch(u0, speed, rows=1):
     return np.array(u), np.broadcast_to(speed, (n_rows,)).astype(float), batch_dim
 
 
+def _per_row(name, value, rows, unit):
+    value = np.asarray(value, dtype=float)
+    if value.ndim > 1 or not np.all(np.isfinite(value)) or value.size not in (1, rows):
+        raise ScenarioError(f"{name} must be finite, one value or one per batch row ({rows}), {unit} per unit time")
+    return np.broadcast_to(value.ravel(), (rows,)).copy()
+
+
 def _curvatures(v, k):
     return np.fft.irfft(-(k**2) * v, axis=-1)
 
@@ -139,8 +146,9 @@ def _richardson_error(v, v_half, n):
 class _Problem:
     """The discretised equation for one set of rows, with the step-dependent weights."""
 
-    def __init__(self, forms, n, speeds, epsilon, nu, dealias, stabilisation, drift):
-        self.forms, self.n, self.speeds, self.drift = forms, n, speeds, drift
+    def __init__(self, forms, n, speeds, epsilon, nu, dealias, stabilisation, drift, dispersion):
+        self.forms, self.n, self.speeds = forms, n, speeds
+        self.drift, self.dispersion = drift, dispersion
         self.epsilon, self.nu = epsilon, nu
         self.k = wavenumbers(n)
         kept = n // 3 if dealias else n // 2 - 1
@@ -165,8 +173,9 @@ class _Problem:
         self.S = S
         k2 = self.k**2
         self.L = -(self.epsilon * k2**2 + S[:, None] * k2) / (1 + self.nu * k2)
-        if np.any(self.drift):
-            self.L = self.L + 1j * self.drift[:, None] * self.k / (1 + self.nu * k2)
+        if np.any(self.drift) or np.any(self.dispersion):
+            odd = self.drift[:, None] * self.k - self.dispersion[:, None] * self.k**3
+            self.L = self.L + 1j * odd / (1 + self.nu * k2)
         if self.compiled:
             width = max(max(t.poly.size for t in self.tables), 2)
             poly = np.zeros((len(self.speeds), width))
@@ -217,7 +226,7 @@ class _Problem:
 def solve_evolution(
     u0, t_end, h, speed=0.0, epsilon=0.0, nu=0.0, *, dt=None, n_save=101, dealias=True,
     stabilisation=None, depth_limit=None, tail_tolerance=1e-3, max_halvings=6, progress=None,
-    checkpoint=None, resume=None, resolution_tolerance=3e-5, rtol=1e-4, drift=0.0,
+    checkpoint=None, resume=None, resolution_tolerance=3e-5, rtol=1e-4, drift=0.0, dispersion=0.0,
 ):
     """Solve the evolution equation from ``u0`` (m) over normed time ``[0, t_end]``.
 
@@ -235,6 +244,9 @@ def solve_evolution(
         A term ``+drift u_x`` of ``h`` (rad per unit time; one per batch row or one for all): the
         pattern travels round the wheel at ``-drift`` without changing its growth. Taken exactly in
         the linear part.
+    dispersion : float or 1-D array
+        A term ``+dispersion u_xxx`` of ``h`` (rad³ per unit time; per row or one for all): order
+        ``k`` travels at ``dispersion k²`` more. Taken exactly in the linear part.
     dt : float, optional
         A fixed time step, which turns the step-size control off. By default the first step
         comes from the largest linear growth rate met at the start and ``rtol`` controls it.
@@ -283,11 +295,9 @@ def solve_evolution(
     if len(forms) != len(speeds):
         raise ScenarioError(f"h lists {len(forms)} forms for a batch of {len(speeds)} rows")
     n = u_start.shape[-1]
-    drift = np.asarray(drift, dtype=float)
-    if drift.ndim > 1 or not np.all(np.isfinite(drift)) or drift.size not in (1, len(speeds)):
-        raise ScenarioError(f"drift must be finite, one value or one per batch row ({len(speeds)}), rad per unit time")
-    drift = np.broadcast_to(drift.ravel(), (len(speeds),)).copy()
-    problem = _Problem(forms, n, speeds, float(epsilon), float(nu), dealias, stabilisation, drift)
+    drift = _per_row("drift", drift, len(speeds), "rad")
+    dispersion = _per_row("dispersion", dispersion, len(speeds), "rad³")
+    problem = _Problem(forms, n, speeds, float(epsilon), float(nu), dealias, stabilisation, drift, dispersion)
     v = np.fft.rfft(u_start, axis=-1)
     if epsilon == 0 and nu == 0 and np.any(problem.growth_bound(v) > 0):
         raise IllPosedError(
@@ -315,7 +325,7 @@ def solve_evolution(
     depth = float(depth_limit) if depth_limit is not None else 0.0
     fingerprint = _fingerprint(u_start, speeds, form, t_end, epsilon, nu, dt, n_save, dealias,
                                stabilisation, depth_limit, tail_tolerance, max_halvings, rtol,
-                               tuple(drift) if np.any(drift) else None)
+                               (tuple(drift), tuple(dispersion)) if np.any(drift) or np.any(dispersion) else None)
     if dt is not None:
         rtol = None
     if rtol is not None:
@@ -445,6 +455,7 @@ def _dataset(u, times, angle, speeds, batch_dim, stop, problem, form, dt, dealia
             coords["speed"] = ((), speeds[0], {"units": "m s-1", "long_name": "vehicle speed"})
     attrs = {
         "h_form": form.name, "epsilon": problem.epsilon, "nu": problem.nu, "drift": problem.drift,
+        "dispersion": problem.dispersion,
         "time_step": float(np.min(dt)),
         "dealias": int(dealias), "stabilisation": float(np.max(problem.S)),
         "depth_limit": float(depth_limit) if depth_limit is not None else 0.0,

@@ -31,13 +31,12 @@ def wear_rate(scenario: Scenario):
     )
 
 
-def drift(scenario: Scenario):
-    """The drift of ``h`` (rad per unit normed time) at the operation speeds, linear in the speed
-    between the table's speeds."""
+def odd_terms(scenario: Scenario):
+    """Drift and dispersion of ``h`` (rad and rad³ per unit normed time) at the operation speeds,
+    linear in the speed between the table's speeds."""
     w, speeds = scenario.wear_rate, np.asarray(scenario.operation.speeds, float)
-    if not isinstance(w.drift_rad, list):
-        return w.drift_rad
-    return np.interp(speeds, np.array(w.table_speed_kmh) / 3.6, w.drift_rad)
+    return tuple(np.interp(speeds, np.array(w.table_speed_kmh) / 3.6, value) if isinstance(value, list) else value
+                 for value in (w.drift_rad, w.dispersion_rad3))
 
 
 def initial_state(scenario: Scenario):
@@ -92,7 +91,7 @@ def strategy(scenario: Scenario):
     solver, speeds = scenario.solver, scenario.operation.speeds
     if scenario.strategy.kind == "phenomenological":
         return Phenomenological(wear_rate(scenario), np.asarray(speeds, float), solver.epsilon, solver.nu,
-                                drift(scenario),
+                                *odd_terms(scenario),
                                 options={"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt})
     if scenario.strategy.kind == "stepwise":
         return stepwise(scenario)
@@ -182,7 +181,8 @@ def with_fitted_h(scenario: Scenario, fit):
     wear_rate = scenario.wear_rate.model_copy(update={
         "form": "table", "curvature_m": table.curvature.tolist(), "rate_m": rate,
         "table_speed_kmh": None if table.speed is None else (table.speed * 3.6).tolist(),
-        "drift_rad": fit.drift.tolist() if table.speed is not None else float(fit.drift[0])})
+        "drift_rad": fit.drift.tolist() if table.speed is not None else float(fit.drift[0]),
+        "dispersion_rad3": fit.dispersion.tolist() if table.speed is not None else float(fit.dispersion[0])})
     strategy = scenario.strategy.model_copy(update={"kind": "phenomenological"})
     return scenario.model_copy(update={"wear_rate": wear_rate, "strategy": strategy,
                                        "name": f"{scenario.name}-fitted",

@@ -59,9 +59,9 @@ class Operation(_Section):
 
 
 class WearRate(_Section):
-    """``h``: the physical disk-contact form, a cubic in ``u_xx``, or a table; plus a drift term
-    ``drift_rad u_x`` (rad per unit normed life: the pattern travels round the wheel at
-    ``-drift_rad``), one value, or one per ``table_speed_kmh``."""
+    """``h``: the physical disk-contact form, a cubic in ``u_xx``, or a table; plus the odd terms
+    ``drift_rad u_x + dispersion_rad3 u_xxx`` (per unit normed life: order ``n`` travels round the
+    wheel at ``-(drift_rad - dispersion_rad3 n²)`` rad), each one value or one per ``table_speed_kmh``."""
 
     form: Literal["disk_contact", "cubic", "table"] = "disk_contact"
     c0: Finite = 0.0
@@ -71,13 +71,16 @@ class WearRate(_Section):
     table_speed_kmh: list[Positive] | None = None
     rate_m: list[Finite] | list[list[Finite]] | None = None
     drift_rad: Finite | list[Finite] = 0.0
+    dispersion_rad3: Finite | list[Finite] = 0.0
 
     @model_validator(mode="after")
     def _table_given(self):
         if self.form == "table" and (self.curvature_m is None or self.rate_m is None):
             raise ValueError("form 'table' needs curvature_m and rate_m")
-        if isinstance(self.drift_rad, list) and len(self.drift_rad) != len(self.table_speed_kmh or []):
-            raise ValueError("drift_rad: a list needs one value per table_speed_kmh")
+        for name in ("drift_rad", "dispersion_rad3"):
+            value = getattr(self, name)
+            if isinstance(value, list) and len(value) != len(self.table_speed_kmh or []):
+                raise ValueError(f"{name}: a list needs one value per table_speed_kmh")
         return self
 
 

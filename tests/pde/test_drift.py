@@ -63,3 +63,15 @@ def test_drift_per_row_and_bad_drift():
         solve_evolution(U0, 0.2, Cubic(-1e-3, 0.01, 0.0), speeds, 1e-4, 0.0, drift=[1.0, 2.0, 3.0])
     with pytest.raises(ScenarioError, match="drift"):
         solve_evolution(U0, 0.2, Cubic(-1e-3, 0.01, 0.0), 0.0, 1e-4, 0.0, drift=np.nan)
+
+
+def test_dispersion_matches_the_exact_modes():
+    eps, nu, c1, disp = 1e-4, 1e-3, -0.02, 0.05
+    ds = solve_evolution(U0, 1.0, Cubic(0.0, c1, 0.0), 0.0, eps, nu, drift=0.3, dispersion=disp)
+    k = np.fft.rfftfreq(N, 1.0 / N)
+    rate = (-c1 * k**2 - eps * k**4 + 1j * (0.3 * k - disp * k**3)) / (1 + nu * k**2)
+    exact = np.fft.irfft(np.fft.rfft(U0) * np.exp(rate), N)
+    # order 7 travels 2.45 rad further than order 3: a wrong sign or power errs by O(1)
+    np.testing.assert_allclose(ds.u.values[-1], exact, rtol=0, atol=1e-4 * np.ptp(exact))
+    with pytest.raises(ScenarioError, match="dispersion"):
+        solve_evolution(U0, 0.2, Cubic(0.0, 0.01, 0.0), 0.0, 1e-4, 0.0, dispersion=np.inf)
