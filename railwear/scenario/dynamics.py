@@ -2,10 +2,13 @@
 
 A TOML file with a ``[model]`` section (``kind`` and the model's fields in SI units, as
 :func:`railwear.dynamics.build_model` takes them; for the disk wheel an out-of-round wheel may be
-given as ``out_of_round = {orders = [...], amplitudes_um = [...], points = 512}``) and a
-``[run]`` section. Built-in ones ship in ``builtin_dynamics/`` (``railwear simulate NAME``).
+given as ``out_of_round = {orders = [...], amplitudes_um = [...], points = 512}``; the wheelset
+and the Cooperrider bogie run on real profiles with ``profiles = {wheel = "S1002", rail = "UIC60"}``
+(built-in names or profile files), through the contact table) and a ``[run]`` section.
+Built-in ones ship in ``builtin_dynamics/`` (``railwear simulate NAME``).
 """
 
+import functools
 import tomllib
 from importlib import resources
 from pathlib import Path
@@ -28,6 +31,13 @@ class OutOfRound(BaseModel):
     points: Annotated[int, Field(ge=8, le=65536)] = 512
 
 
+class Profiles(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    wheel: str = "S1002"
+    rail: str = "UIC60"
+
+
 class ModelSection(BaseModel):
     """``kind`` and the model's own fields (checked by ``build_model``, which names a wrong one)."""
 
@@ -35,6 +45,7 @@ class ModelSection(BaseModel):
 
     kind: Literal["wheelset", "disk_wheel", "cooperrider"]
     out_of_round: OutOfRound | None = None
+    profiles: Profiles | None = None
 
 
 class RunSection(BaseModel):
@@ -84,13 +95,45 @@ def load_dynamics_scenario(path_or_name):
         raise ScenarioError(_one_line(e, source)) from None
 
 
+@functools.lru_cache(maxsize=4)
+def _contact_table(wheel, rail):
+    from railwear.geometry import contact_table, load_profile
+
+    try:
+        wheel, rail = load_profile(wheel), load_profile(rail)
+    except ScenarioError as e:
+        raise ScenarioError(f"model.profiles: {e}") from None
+    return contact_table(wheel, rail)
+
+
+def _on_profiles(scenario, speed, fields):
+    """The wheelset or Cooperrider bogie of the scenario on the profiles of ``model.profiles``."""
+    from dataclasses import fields as dataclass_fields
+
+    from railwear.dynamics import TableBogieModel, build_model
+
+    kind = scenario.model.kind
+    if kind == "disk_wheel":
+        raise ScenarioError("model.profiles: only the wheelset and the cooperrider bogie run on real profiles")
+    table = _contact_table(scenario.model.profiles.wheel, scenario.model.profiles.rail)
+    if kind == "wheelset":
+        return build_model("table_wheelset", dict(fields, table=table, speed=speed))
+    known = {f.name for f in dataclass_fields(TableBogieModel)}
+    for name in fields:
+        if name not in known:
+            raise ScenarioError(f"{name}: not a field of the cooperrider model on real profiles")
+    return TableBogieModel.cooperrider(speed, table, **fields)
+
+
 def build(scenario: DynamicsScenario, speed):
     """The model of the scenario at ``speed`` (m/s)."""
-    from railwear.dynamics import BogieModel, build_model
+    from railwear.dynamics import build_model
 
-    fields = {k: v for k, v in scenario.model.model_dump().items() if k not in ("kind", "out_of_round")}
+    fields = {k: v for k, v in scenario.model.model_dump().items() if k not in ("kind", "out_of_round", "profiles")}
+    if scenario.model.profiles is not None:
+        return _on_profiles(scenario, speed, fields)
     if scenario.model.kind == "cooperrider":
-        return BogieModel.cooperrider(speed, **fields)
+        return build_model("cooperrider", dict(fields, speed=speed))
     ring = scenario.model.out_of_round
     if ring is not None:
         if scenario.model.kind != "disk_wheel":

@@ -105,3 +105,17 @@ def test_spin_state_runs_through_settle_and_validates():
     for bad in (0.0, -1.0, float("nan")):
         with pytest.raises(ScenarioError, match="^spin_inertia:"):
             WheelsetModel(speed=70.0, **BASE, spin_inertia=bad)
+
+
+def test_spin_state_and_fastsim_from_a_scenario(tmp_path):
+    from railwear import api
+    from railwear.scenario import dynamics
+
+    text = dynamics._builtin_dir().joinpath("hunting.toml").read_text()
+    path = tmp_path / "spin.toml"
+    path.write_text(text.replace("[run]", 'spin_inertia = 120.0\ncreep_law = "fastsim"\n\n[run]'))
+    ds = api.simulate(dynamics.load_dynamics_scenario(path))
+    assert ds.spin_deviation.dims == ("speed", "time") and ds.attrs["linear_critical_speed_kmh"] > 0
+    path.write_text(text.replace("[run]", 'spin_inertia = "heavy"\n\n[run]'))
+    with pytest.raises(ScenarioError, match="^spin_inertia: must be a number"):
+        dynamics.build(dynamics.load_dynamics_scenario(path), 50.0)

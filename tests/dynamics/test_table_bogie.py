@@ -79,3 +79,33 @@ def test_result_variables_and_bad_input(table):
         TableBogieModel.cooperrider(40.0, table, frame_mass=-1.0)
     with pytest.raises(ScenarioError, match="^table:"):
         TableBogieModel.cooperrider(40.0, None)
+
+
+def _scenario(tmp_path, text):
+    from railwear.scenario import dynamics
+
+    path = tmp_path / "scenario.toml"
+    path.write_text(text)
+    return dynamics.load_dynamics_scenario(path)
+
+
+def test_scenarios_on_real_profiles(tmp_path):
+    """``model.profiles`` puts the wheelset and the Cooperrider bogie of a scenario on real
+    profiles; the built-in hunting-profiles scenario decays at 250 km/h and hunts at 340 km/h
+    (linear critical speed 314.5 km/h)."""
+    from railwear import api
+    from railwear.scenario import dynamics
+
+    run = '\n[run]\nspeeds_kmh = [100.0]\n'
+    profiles = 'profiles = { wheel = "S1002", rail = "UIC60" }\n'
+    bogie = dynamics.build(_scenario(tmp_path, '[model]\nkind = "cooperrider"\n' + profiles + run), 30.0)
+    assert isinstance(bogie, TableBogieModel) and bogie.frame_mass == 2918.9
+    with pytest.raises(ScenarioError, match="^flange_clearance: not a field"):
+        dynamics.build(_scenario(tmp_path, '[model]\nkind = "cooperrider"\nflange_clearance = 5e-3\n' + profiles + run),
+                       30.0)
+    with pytest.raises(ScenarioError, match="^model.profiles: profile file 'XYZ'"):
+        dynamics.build(_scenario(tmp_path, '[model]\nkind = "cooperrider"\nprofiles = { wheel = "XYZ" }\n' + run), 30.0)
+    ds = api.simulate("hunting-profiles")
+    assert ds.attrs["linear_critical_speed_kmh"] == pytest.approx(314.5, abs=0.1)
+    assert float(abs(ds.sel(speed=250 / 3.6).lateral_displacement[-500:]).max()) < 1e-8
+    assert float(abs(ds.sel(speed=340 / 3.6).lateral_displacement[-500:]).max()) > 5e-3
