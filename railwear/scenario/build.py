@@ -141,7 +141,8 @@ def stepwise(scenario: Scenario):
     frozen = FrozenGeometry(disk_wheel_model(scenario, service.mean), wear_law(scenario).beta, band_width(scenario),
                             scenario.operation.life_distance_km * 1e3, service, revolutions=st.revolutions,
                             transient_revolutions=st.transient_revolutions, samples=st.samples)
-    return Stepwise(frozen, st.step_limit_um * 1e-6, seed=scenario.service.seed)
+    return Stepwise(frozen, st.step_limit_um * 1e-6, seed=scenario.service.seed, limit_on=st.step_limit_on,
+                    scheme=st.scheme)
 
 
 def direct(scenario: Scenario):

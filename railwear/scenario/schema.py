@@ -129,7 +129,9 @@ class Strategy(_Section):
     stepwise frozen geometry or the direct coupled integration on the disk wheel of
     ``[disk_wheel]``.
 
-    Stepwise: ``step_limit_um`` the largest change of ``u`` per long-term step, ``samples`` draws
+    Stepwise: ``step_limit_um`` the largest change of ``u`` (``step_limit_on = "u"``) or of its
+    shape ``u - mean(u)`` (``"shape"``) per long-term step, taken by ``scheme`` (``"euler"``, or
+    ``"adams-bashforth"``: second order at the same cost per step), ``samples`` draws
     of phase and speed (from ``[service]``, seeded by ``service.seed``) of ``revolutions`` each
     after ``transient_revolutions``. Direct: ``acceleration_factor`` on the wear coefficient
     (>= 1), the surface updated ``updates_per_revolution`` times a revolution.
@@ -137,6 +139,8 @@ class Strategy(_Section):
 
     kind: Literal["phenomenological", "fourier", "stepwise", "direct"] = "phenomenological"
     step_limit_um: Positive = 10.0
+    step_limit_on: Literal["u", "shape"] = "u"
+    scheme: Literal["euler", "adams-bashforth"] = "euler"
     revolutions: Annotated[int, Field(ge=1, le=100000)] = 4
     transient_revolutions: Annotated[int, Field(ge=0, le=100000)] = 4
     samples: Annotated[int, Field(ge=2, le=100000)] = 8
