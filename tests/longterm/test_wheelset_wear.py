@@ -161,6 +161,8 @@ def test_bad_run_arguments(profiles):
         WheelsetDirect(p, 10.0).run(until=0.0)
     with pytest.raises(ScenarioError, match="depth_limit"):
         WheelsetStepwise(p, 1e-6).run(until=1.0, depth_limit=-1.0)
+    with pytest.raises(ScenarioError, match="u0"):
+        WheelsetDirect(p, 10.0).run(u0=np.zeros(3), until=0.1)
 
 
 @pytest.mark.slow
