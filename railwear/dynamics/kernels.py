@@ -1,8 +1,9 @@
 """Compiled right-hand sides of the dynamics models and their dispatch (numba, ``cache=True``).
 
 Every model is a top-level ``@njit`` function ``f(t, y, p, surf, dydt)`` taking its parameters as a
-float64 array ``p`` (index constants below) and, for the disk wheel, the radius deviation grid in
-``surf``. ``rhs(kind, ...)`` selects the model by an integer, so the integrators in
+float64 array ``p`` (index constants below) and an array ``surf``: the disk wheel's radius
+deviation grid, the wheelset's track alignment, a contact table, or the FASTSIM factor table.
+``rhs(kind, ...)`` selects the model by an integer, so the integrators in
 ``railwear.dynamics.integrators`` compile the loop and the model together without closures.
 
 Note for developers: numba's cache is keyed on the file of the cached function only. After editing
