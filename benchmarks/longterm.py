@@ -6,8 +6,9 @@ The disk wheel of the built-in 'direct' scenario at 70 km/h (the P2 order 8 grow
 from a rough wheel (40 um rms, orders 2-12) until 1 mm has gone at the most worn spot (one
 disk-wheel life of the issue's targets): the direct coupled integration at acceleration factor
 500 (feasible: under 10 minutes?), the stepwise strategy with its step limited on u and on the
-shape (under 60 s?), the Fourier technique, and the phenomenological strategy (the fit's dynamics
-and the PDE solve apart). Wall times are single runs after compilation on a shared machine;
+shape, and second order with cheaper draws (under 60 s?), the Fourier technique, and the
+phenomenological strategy with the fitted drift and dispersion (the fit's dynamics and the PDE
+solve apart). Wall times are single runs after compilation on a shared machine;
 revolutions simulated are exact.
 """
 
@@ -46,6 +47,8 @@ def main():
                             transient_revolutions=4, samples=4)
     # compile and load the caches outside the timings
     Stepwise(frozen, 1e-4).run(u0, 1.0, 2e-6)
+    fast = FrozenGeometry(model, law.beta, band, life, ServiceSpeeds((SPEED,)), revolutions=2,
+                          transient_revolutions=2, samples=2)
     Direct(model, law.beta, band, life, 1e5).run(u0, 1.0, 2e-6)
 
     def phenomenological():
@@ -54,7 +57,8 @@ def main():
         fit_frozen = FrozenGeometry(model, law.beta, band, life, ServiceSpeeds((SPEED,)), revolutions=4,
                                     transient_revolutions=4, samples=2)
         t_fit, fit = timed(lambda: fit_h(gather(lambda v: fit_frozen, [SPEED], geometries, rng), degree=3, bins=16))
-        t_pde, ds = timed(lambda: Phenomenological(fit.table, SPEED, sc.solver.epsilon, sc.solver.nu).run(u0, 1.0, DEPTH))
+        t_pde, ds = timed(lambda: Phenomenological(fit.table, SPEED, sc.solver.epsilon, sc.solver.nu, fit.drift[0],
+                                                   fit.dispersion[0]).run(u0, 1.0, DEPTH))
         ds.attrs["fit_seconds"], ds.attrs["pde_seconds"] = t_fit, t_pde
         return ds
 
@@ -62,6 +66,8 @@ def main():
         "direct, A = 500": lambda: Direct(model, law.beta, band, life, 500.0).run(u0, 1.0, DEPTH),
         "stepwise, 5 um on u": lambda: Stepwise(frozen, 5e-6).run(u0, 1.0, DEPTH),
         "stepwise, 2 um on the shape": lambda: Stepwise(frozen, 2e-6, limit_on="shape").run(u0, 1.0, DEPTH),
+        "stepwise, 2nd order, 20 um shape": lambda: Stepwise(fast, 20e-6, limit_on="shape",
+                                                             scheme="adams-bashforth").run(u0, 1.0, DEPTH),
         "Fourier": lambda: FourierStrategy(Fourier.disk_wheel(model, law, band), life).run(u0, 1.0, DEPTH),
         "phenomenological (fit + PDE)": phenomenological,
     }
