@@ -11,6 +11,9 @@ stabilisation adds the velocity constraint and a second multiplier ``mu``:
 (Gear, Gupta & Leimkuhler 1985), an index-2 system in which both the position and the velocity
 constraints hold; ``mu`` vanishes on exact solutions. SUNDIALS IDA (through scikit-sundae) solves
 it with the multipliers left out of the error test (a very large absolute tolerance on them).
+Two generalisations serve the rolling wheel: the constraint forces may act along ``H(q)^T lam``
+instead of ``G^T lam`` (a model that lets the normal force act vertically only), and applied
+forces may depend on the multipliers (creep forces limited by the normal force).
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ __all__ = [
     "GGLProblem",
     "GGLSolution",
     "bogie_ggl_problem",
+    "disk_wheel_dae_outputs",
     "disk_wheel_ggl_problem",
     "planar_pendulum",
     "solve_ggl",
@@ -37,7 +41,10 @@ class GGLProblem:
     """A constrained system: ``mass(q)`` (n x n), ``force(t, q, v)`` (n), ``constraint(t, q)``
     (m), ``constraint_jacobian(t, q)`` (m x n, ``G = dg/dq``) and, for constraints that move
     with time (a rotating out-of-round wheel), ``constraint_rate(t, q)`` = ``dg/dt`` (m; ``None``:
-    zero). Callables take and return NumPy arrays, SI units."""
+    zero). Optional: ``reaction_jacobian(t, q)`` (m x n), the directions ``H`` of the constraint
+    forces ``-H^T lam`` (``None``: ``G``; ``G M^-1 H^T`` must be invertible), and
+    ``multiplier_force(t, q, v, lam)`` (n), applied forces that depend on the multipliers.
+    Callables take and return NumPy arrays, SI units."""
 
     n_coordinates: int
     n_constraints: int
@@ -46,9 +53,18 @@ class GGLProblem:
     constraint: object
     constraint_jacobian: object
     constraint_rate: object = None
+    reaction_jacobian: object = None
+    multiplier_force: object = None
 
     def _rate(self, t, q):
         return np.zeros(self.n_constraints) if self.constraint_rate is None else self.constraint_rate(t, q)
+
+    def _reaction(self, t, q, jac):
+        return jac if self.reaction_jacobian is None else self.reaction_jacobian(t, q)
+
+    def _force(self, t, q, v, lam):
+        force = self.force(t, q, v)
+        return force if self.multiplier_force is None else force + self.multiplier_force(t, q, v, lam)
 
     def residual(self, t, y, yp, res):
         """GGL residual for ``y = [q, v, lam, mu]`` (IDA's ``resfn``)."""
@@ -56,14 +72,15 @@ class GGLProblem:
         q, v, lam, mu = y[:n], y[n:2 * n], y[2 * n:2 * n + m], y[2 * n + m:]
         jac = self.constraint_jacobian(t, q)
         res[:n] = yp[:n] - v + jac.T @ mu
-        res[n:2 * n] = self.mass(q) @ yp[n:2 * n] - self.force(t, q, v) + jac.T @ lam
+        res[n:2 * n] = self.mass(q) @ yp[n:2 * n] - self._force(t, q, v, lam) + self._reaction(t, q, jac).T @ lam
         res[2 * n:2 * n + m] = self.constraint(t, q)
         res[2 * n + m:] = jac @ v + self._rate(t, q)
 
     def consistent_start(self, t0, q0, v0):
         """``(y0, yp0)`` with the multiplier ``lam`` from the acceleration-level constraint
         ``G a + d/dt(G) v + d/dt(g_t) = 0`` (the total derivatives along the motion by central
-        differences) and ``mu = 0``; ``q0, v0`` must satisfy both constraints."""
+        differences) and ``mu = 0``; ``q0, v0`` must satisfy both constraints. Forces that depend
+        on ``lam`` are iterated to a fixed point."""
         n, m = self.n_coordinates, self.n_constraints
         q0, v0 = np.asarray(q0, dtype=float), np.asarray(v0, dtype=float)
         scale = max(1.0, float(np.max(np.abs(q0))))
@@ -80,10 +97,17 @@ class GGLProblem:
         drift = (velocity_constraint(t0 + h, q0 + h * v0) - velocity_constraint(t0 - h, q0 - h * v0)) / (2 * h)
         system = np.zeros((n + m, n + m))
         system[:n, :n] = self.mass(q0)
-        system[:n, n:] = jac.T
+        system[:n, n:] = self._reaction(t0, q0, jac).T
         system[n:, :n] = jac
-        rhs = np.concatenate([self.force(t0, q0, v0), -drift])
-        sol = np.linalg.solve(system, rhs)
+        lam = np.zeros(m)
+        for _ in range(50):
+            sol = np.linalg.solve(system, np.concatenate([self._force(t0, q0, v0, lam), -drift]))
+            converged = np.max(np.abs(sol[n:] - lam)) <= 1e-13 * max(1.0, float(np.max(np.abs(sol[n:]))))
+            lam = sol[n:]
+            if self.multiplier_force is None or converged:
+                break
+        else:
+            raise NumericalInstabilityError("consistent start: the multipliers did not converge")
         y0 = np.concatenate([q0, v0, sol[n:], np.zeros(m)])
         yp0 = np.concatenate([v0, sol[:n], np.zeros(2 * m)])
         return y0, yp0
@@ -183,15 +207,21 @@ def wheelset_ggl_problem(model, roll_inertia, gravity=9.81) -> GGLProblem:
     return _fixed_linear_constraints(mass_matrix, force, jac)
 
 
-def disk_wheel_ggl_problem(model):
+def disk_wheel_ggl_problem(model, rotation=False, initial_spin=None):
     """The disk wheel of ``model`` (a ``DiskWheelModel``) with rigid contact: the wheel follows
-    the rail and the filtered radius deviation, ``g(t, q) = z_w - z_r - u_bar(x0 + V t / R0)``.
+    the rail and the filtered radius deviation, ``g(t, q) = z_w - z_r - u_bar(x_c)``,
+    ``x_c = x0 + V t / R0 + phi``.
 
-    Coordinates ``q = [z_w, (z_s), (z_r)]`` (the sprung mass and the rail mass where the model
-    has them); the wheel turns at ``V / R0`` (no rotational dynamics and no creep in this form).
-    The normal force is ``N = W - lam``. Needs a patch (``patch_half_length > 0``) so that
-    ``u_bar`` is smooth enough for the index-2 form. Returns ``(problem, q0, v0)`` at rest in
-    static equilibrium (the wheel on the deviation under it).
+    Coordinates ``q = [(phi), z_w, (z_s), (z_r)]``: the sprung mass and the rail mass where the
+    model has them. Without ``rotation`` the wheel turns at ``V / R0`` and there is no creep.
+    With it, ``phi`` is the wheel angle beyond ``V t / R0`` (as in the ODE), ``J phi'' = T -
+    (R0 + u_bar) Fx`` with the creep force of the ODE model at the creepage ``(Omega (R0 +
+    u_bar) - V) / V`` and the rigid-contact normal force; as in the ODE the normal force acts
+    vertically only (no moment from the slope of ``u``). The normal force is ``N = W - lam``.
+    Needs a patch (``patch_half_length > 0``) so that ``u_bar`` is smooth enough for the
+    index-2 form. Returns ``(problem, q0, v0)``: the wheel on the deviation under it, at rest
+    vertically relative to it, spinning at ``initial_spin`` [rad/s] (``None``: the model's
+    initial spin, steady creepage).
     """
     from railwear.dynamics import kernels as k
 
@@ -203,31 +233,53 @@ def disk_wheel_ggl_problem(model):
     x0 = model.initial_angle
     sprung = model.sprung_mass is not None
     rail = model.rail_mass is not None
-    n = 1 + sprung + rail
-    i_s, i_r = (1 if sprung else None), (n - 1 if rail else None)
-    masses = [model.wheel_mass] + ([model.sprung_mass] if sprung else []) + ([model.rail_mass] if rail else [])
+    i_w = 1 if rotation else 0
+    n = i_w + 1 + sprung + rail
+    i_s, i_r = (i_w + 1 if sprung else None), (n - 1 if rail else None)
+    masses = ([model.wheel_inertia] if rotation else []) + [model.wheel_mass]
+    masses += ([model.sprung_mass] if sprung else []) + ([model.rail_mass] if rail else [])
     mass_matrix = np.diag(masses)
-    jac = np.zeros((1, n))
-    jac[0, 0] = 1.0
+    vertical = np.zeros((1, n))
+    vertical[0, i_w] = 1.0
     if rail:
-        jac[0, i_r] = -1.0
+        vertical[0, i_r] = -1.0
 
-    def u_bar(t):
-        return k.patch_average(surf, n_cells, x0 + rate * t, half)
+    def angle(t, q):
+        return x0 + rate * t + (q[0] if rotation else 0.0)
 
-    def u_bar_slope(t):
-        x = x0 + rate * t
+    def u_bar(x):
+        return k.patch_average(surf, n_cells, x, half)
+
+    def u_bar_slope(x):
+        if n_cells == 0:  # a round wheel
+            return 0.0
         return (k.surface_value(surf, n_cells, x + half) - k.surface_value(surf, n_cells, x - half)) / (2.0 * half)
+
+    def jacobian(t, q):
+        if not rotation:
+            return vertical
+        jac = vertical.copy()
+        jac[0, 0] = -u_bar_slope(angle(t, q))
+        return jac
 
     def force(t, q, v):
         f = np.zeros(n)
         z_s, v_s = (q[i_s], v[i_s]) if sprung else (0.0, 0.0)
-        primary = model.primary_stiffness * (q[0] - z_s) + model.primary_damping * (v[0] - v_s)
-        f[0] = -primary
+        primary = model.primary_stiffness * (q[i_w] - z_s) + model.primary_damping * (v[i_w] - v_s)
+        f[i_w] = -primary
         if sprung:
             f[i_s] = primary
         if rail:
             f[i_r] = -model.pad_stiffness * q[i_r] - model.pad_damping * v[i_r]
+        return f
+
+    state = _disk_wheel_ode_state(model)
+    p, dydt = model.params(), np.empty(model.n_states)
+
+    def creep(t, q, v, lam):
+        k.rhs(k.KIND_DISK_WHEEL, t, state(t, q, v, lam), p, surf, dydt)
+        f = np.zeros(n)
+        f[0] = model.wheel_inertia * dydt[1]  # the traction torque and the creep force's moment
         return f
 
     problem = GGLProblem(
@@ -235,19 +287,59 @@ def disk_wheel_ggl_problem(model):
         n_constraints=1,
         mass=lambda q: mass_matrix,
         force=force,
-        constraint=lambda t, q: jac @ q - u_bar(t),
-        constraint_jacobian=lambda t, q: jac,
-        constraint_rate=lambda t, q: np.array([-rate * u_bar_slope(t)]),
+        constraint=lambda t, q: np.array([q[i_w] - (q[i_r] if rail else 0.0) - u_bar(angle(t, q))]),
+        constraint_jacobian=jacobian,
+        constraint_rate=lambda t, q: np.array([-rate * u_bar_slope(angle(t, q))]),
+        reaction_jacobian=(lambda t, q: vertical) if rotation else None,
+        multiplier_force=creep if rotation else None,
     )
+    spin = model.initial_state()[1] if initial_spin is None else float(initial_spin)
     q0 = np.zeros(n)
-    q0[0] = u_bar(0.0)
+    q0[i_w] = u_bar(x0)
     if sprung:
-        q0[i_s] = q0[0]  # the primary spring at its static length
+        q0[i_s] = q0[i_w]  # the primary spring at its static length
     v0 = np.zeros(n)
-    v0[0] = rate * u_bar_slope(0.0)
-    if sprung:
-        v0[i_s] = 0.0
+    v0[i_w] = (spin if rotation else rate) * u_bar_slope(x0)
+    if rotation:
+        v0[0] = spin - rate
     return problem, q0, v0
+
+
+def _disk_wheel_ode_state(model):
+    """``state(t, q, v, lam)``: the ODE state of the disk wheel (``[phi, Omega, z_w, z_w', z_s,
+    z_s', z_r, z_r']``) whose Hertz contact carries the rigid-contact normal force ``W - lam``, so
+    that the compiled kernel gives the creepage and creep force of a rotating rigid-contact DAE
+    state (``q = [phi, z_w, ...]``)."""
+    from railwear.dynamics import kernels as k
+
+    surf, n_cells, half = model.surface(), model.n_cells(), model.patch_half_length / model.radius
+    y = np.zeros(model.n_states)
+
+    def state(t, q, v, lam):
+        normal = max(model.static_load - lam[0], 0.0)
+        y[0] = q[0]
+        y[1] = model.speed / model.radius + v[0]
+        # the approach delta_0 + z_r - z_w + u_bar with z_w = 0 equals (N / k_H)^(2/3)
+        x = model.initial_angle + model.speed / model.radius * t + q[0]
+        y[6] = (normal / model.hertz_constant) ** (2.0 / 3.0) - model.static_approach - k.patch_average(
+            surf, n_cells, x, half)
+        return y
+
+    return state
+
+
+def disk_wheel_dae_outputs(model, solution):
+    """Normal force, creepage, creep force and frictional power (SI, one row per time, the
+    columns of ``kernels.disk_wheel_outputs``) of a rotating rigid-contact disk-wheel solution
+    (``disk_wheel_ggl_problem(model, rotation=True)`` solved by ``solve_ggl``)."""
+    from railwear.dynamics import kernels as k
+
+    state = _disk_wheel_ode_state(model)
+    ys = np.array([state(t, q, v, lam).copy() for t, q, v, lam in zip(solution.t, solution.q, solution.v,
+                                                                      solution.lam)])
+    out = k.outputs(k.KIND_DISK_WHEEL, np.asarray(solution.t, dtype=float), ys, model.params(), model.surface(),
+                    k.DW_N_OUTPUTS)
+    return out[:, :4]
 
 
 def bogie_ggl_problem(model, roll_inertia, gravity=9.81) -> GGLProblem:
