@@ -156,6 +156,13 @@ def creep_factor(force, limit, law, surf, offset, points):
     ``creep_curve``; at ``s = 0`` it is FASTSIM's discretised linear slope, close to 1)."""
     if law == 0.0:
         return saturation_factor(force, limit)
+    return _fastsim_factor(force, limit, surf, offset, points)
+
+
+@njit(cache=True)
+def _fastsim_factor(force, limit, surf, offset, points):
+    """The FASTSIM branch of ``creep_factor`` (a call, not inlined: it keeps the inlined creep
+    code of the cubic law small)."""
     if limit <= 0.0:
         return 0.0
     return creep_curve(surf, offset, points, force / limit)
@@ -324,7 +331,7 @@ def _radius_ratio(surf, p, o, lat):
     return (r_right - r_left) / (r_left + r_right), r_left + r_right
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
     """Contact forces on a wheelset on real profiles (no suspension): ``(lateral force, yaw
     moment, power left, power right, lateral component of the normal forces)``."""
@@ -386,9 +393,9 @@ def table_wheelset_outputs(t, y, p, surf, out):
 
 # ---- bogie ----------------------------------------------------------------------------------
 @njit(cache=True, inline="always")
-def _bogie_wheelset(i, y, p, surf):
+def _bogie_wheelset(i, y, p, surf, law):
     """Creep and flange forces on wheelset ``i`` (0 front, 1 rear) of the bogie:
-    ``(Fy, Mz, power_left, power_right, flange)`` summed over both wheels."""
+    ``(Fy, Mz, power_left, power_right, flange)`` summed over both wheels; ``law`` as ``WS_LAW``."""
     lat, yaw, vlat, vyaw = y[2 * i], y[2 * i + 1], y[6 + 2 * i], y[7 + 2 * i]
     limit = p[BG_FRICTION] * p[BG_WHEEL_LOAD]
     fy = 0.0
@@ -399,7 +406,7 @@ def _bogie_wheelset(i, y, p, surf):
         sign = 1.0 - 2.0 * w
         _, _, _, fx, fyw, mzw, power = _creep(
             sign, lat, yaw, vlat, vyaw, p[BG_SPEED], p[BG_HALF_GAUGE], p[BG_ROLLING_RADIUS], p[BG_CONICITY],
-            p[BG_F11], p[BG_F22], p[BG_F23], p[BG_F33], limit, 0.0, p[BG_LAW], surf, int(p[BG_LAW_OFFSET]),
+            p[BG_F11], p[BG_F22], p[BG_F23], p[BG_F33], limit, 0.0, law, surf, int(p[BG_LAW_OFFSET]),
             int(p[BG_LAW_POINTS]),
         )
         fy += fyw
@@ -413,30 +420,32 @@ def _bogie_wheelset(i, y, p, surf):
 
 
 @njit(cache=True, inline="always")
-def _bogie_contact(table, i, y, p, surf):
+def _bogie_contact(table, law, i, y, p, surf):
     """``(Fy, Mz, power_left, power_right, flange)`` of wheelset ``i``: conical wheels, or real
     profiles through the contact table (``table``; ``flange`` is then the lateral component of
     the normal forces)."""
     if table:
         return _table_forces(y[2 * i], y[2 * i + 1], y[6 + 2 * i], y[7 + 2 * i], p, BG_N_PARAMS, surf)
-    return _bogie_wheelset(i, y, p, surf)
+    return _bogie_wheelset(i, y, p, surf, law)
 
 
 @njit(cache=True)
-def bogie_rhs(t, y, p, surf, dydt):
-    """Two-axle bogie (Cooperrider) with conical wheels; see ``_bogie_motion``."""
-    _bogie_motion(False, y, p, surf, dydt)
-
-
-@njit(cache=True)
-def table_bogie_rhs(t, y, p, surf, dydt):
-    """Two-axle bogie on real profiles (both wheelsets read one contact table); see ``_bogie_motion``."""
-    _bogie_motion(True, y, p, surf, dydt)
+def bogie_rhs(t, y, p, surf, dydt, table):
+    """Two-axle bogie, conical (the Cooperrider bogie) or on real profiles (``table``: both
+    wheelsets read one contact table); see ``_bogie_motion``. The conical bogie under the cubic
+    law has its own compiled copy: a branch on the creep law inside the wheel loop costs a third
+    of its speed."""
+    if not table and p[BG_LAW] == 0.0:
+        _bogie_motion(False, 0.0, y, p, surf, dydt)
+    else:
+        _bogie_motion(table, p[BG_LAW], y, p, surf, dydt)
 
 
 @njit(cache=True, inline="always")
-def _bogie_motion(table, y, p, surf, dydt):
-    """Two-axle bogie: state ``[y1, psi1, y2, psi2, y_f, psi_f]`` and their rates.
+def _bogie_motion(table, law, y, p, surf, dydt):
+    """Two-axle bogie: state ``[y1, psi1, y2, psi2, y_f, psi_f]`` and their rates; conical wheels
+    (the Cooperrider bogie) or, with ``table``, both wheelsets on real profiles through one
+    contact table.
 
     Wheelset ``i`` at ``x_i = +b`` (front) or ``-b`` (rear): ``m y_i'' = Fy_i - k1 (y_i - y_f - x_i psi_f)``,
     ``I psi_i'' = Mz_i - k_psi (psi_i - psi_f)``; frame: ``m_f y_f'' = sum k1 d_i - k4 y_f - D1 y_f'``,
@@ -449,7 +458,7 @@ def _bogie_motion(table, y, p, surf, dydt):
     frame_moment = -p[BG_SECONDARY_YAW_STIFFNESS] * y[5] - p[BG_SECONDARY_YAW_DAMPING] * y[11]
     for i in range(2):
         x = b if i == 0 else -b
-        fy, mz, _, _, _ = _bogie_contact(table, i, y, p, surf)
+        fy, mz, _, _, _ = _bogie_contact(table, law, i, y, p, surf)
         deflection = y[2 * i] - y[4] - x * y[5]
         twist = y[2 * i + 1] - y[5]
         dydt[6 + 2 * i] = (fy - k1 * deflection) / p[BG_WHEELSET_MASS]
@@ -467,7 +476,7 @@ def bogie_outputs(table, y, p, surf, out):
     """Outputs per time: per wheelset (front 0-4, rear 5-9) ``power_left, power_right, flange, Fy, Mz``
     (``table``: on real profiles, ``flange`` the lateral component of the normal forces)."""
     for i in range(2):
-        fy, mz, power_left, power_right, flange = _bogie_contact(table, i, y, p, surf)
+        fy, mz, power_left, power_right, flange = _bogie_contact(table, p[BG_LAW], i, y, p, surf)
         out[5 * i + 0] = power_left
         out[5 * i + 1] = power_right
         out[5 * i + 2] = flange
@@ -703,12 +712,10 @@ def rhs_inline(kind, t, y, p, surf, dydt):
         wheelset_rhs(t, y, p, surf, dydt)
     elif kind == KIND_DISK_WHEEL:
         disk_wheel_rhs(t, y, p, surf, dydt)
-    elif kind == KIND_BOGIE:
-        bogie_rhs(t, y, p, surf, dydt)
+    elif kind == KIND_BOGIE or kind == KIND_TABLE_BOGIE:
+        bogie_rhs(t, y, p, surf, dydt, kind == KIND_TABLE_BOGIE)
     elif kind == KIND_TABLE_WHEELSET:
         table_wheelset_rhs(t, y, p, surf, dydt)
-    elif kind == KIND_TABLE_BOGIE:
-        table_bogie_rhs(t, y, p, surf, dydt)
     elif kind == KIND_LINEAR:
         linear_rhs(t, y, p, surf, dydt)
     elif kind == KIND_VAN_DER_POL:

@@ -464,7 +464,7 @@ class TableBogieModel(_BogieFrame):
 
     def params(self, speed=None) -> np.ndarray:
         """The bogie's ``BG_*`` parameters (the conical contact ones unused, 0) followed by the
-        contact table's ``TW_*`` ones (``kernels.table_bogie_rhs``)."""
+        contact table's ``TW_*`` ones (``kernels.bogie_rhs`` with ``table``)."""
         unused = ("f11", "f22", "f23", "f33", "half_gauge", "rolling_radius", "conicity", "wheel_load",
                   "flange_clearance", "flange_stiffness", "law", "law_offset", "law_points")
         bogie = _pack(self, "BG_", k.BG_N_PARAMS, speed, **dict.fromkeys(unused, 0.0))
