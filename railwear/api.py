@@ -94,7 +94,7 @@ def simulate(scenario, progress=None):
                                   n_output=scenario.run.n_output))
             if progress is not None:
                 progress((i + 1) / speeds.size)
-        ds = xr.concat(runs, dim="speed", combine_attrs="drop").assign_coords(
+        ds = xr.concat(runs, dim="speed", combine_attrs="drop_conflicts").assign_coords(
             speed=("speed", speeds, {"units": "m s-1", "long_name": "vehicle speed"}))
         if scenario.model.kind == "wheelset":
             attrs["linear_critical_speed_kmh"] = float(critical_speed(dynamics.build(scenario, speeds[0]))) * 3.6

@@ -29,6 +29,8 @@ def test_hunting_below_and_above_the_critical_speed():
     assert 180 < vc < 280
     assert float(abs(slow.lateral_displacement[-500:]).max()) < 1e-3 * 1e-3  # decays from 1 mm
     assert float(abs(fast.lateral_displacement[-500:]).max()) > 5e-3  # grows into the flange
+    # the variables keep their units through the batch over speeds (and into the netCDF file)
+    assert ds.lateral_displacement.attrs["units"] == "m" and ds.frictional_power.attrs["units"] == "W"
 
 
 def test_contact_point_runs_round_the_wheel():
