@@ -9,7 +9,8 @@ disk-wheel life of the issue's targets): the direct coupled integration at accel
 shape, and second order with cheaper draws (under 60 s?), the Fourier technique, and the
 phenomenological strategy with the fitted drift and dispersion (the fit's dynamics and the PDE
 solve apart). Wall times are single runs after compilation on a shared machine;
-revolutions simulated are exact.
+revolutions simulated are exact. The last column is the relative L2 difference of the final
+deviation from the mean radius against the direct run (the first case).
 """
 
 import platform
@@ -73,18 +74,22 @@ def main():
     }
     print(f"railwear long-term strategies, disk wheel at {SPEED * 3.6:g} km/h, {POINTS} angles, to "
           f"{DEPTH * 1e3:g} mm removed; Python {platform.python_version()}, {platform.machine()}")
-    print(f"{'strategy':32s} {'wall [s]':>10s} {'revolutions':>12s} {'RHS evals':>12s} {'dominant order':>15s} {'km':>8s}")
-    times = {}
+    print(f"{'strategy':32s} {'wall [s]':>10s} {'revolutions':>12s} {'RHS evals':>12s} {'dominant order':>15s} "
+          f"{'km':>8s} {'L2 vs direct':>13s}")
+    times, reference = {}, None
     for name, fn in cases.items():
         t, ds = timed(fn)
         times[name] = t
+        shape = ds.u.values[-1] - ds.u.values[-1].mean()
+        reference = shape if reference is None else reference
+        error = np.linalg.norm(shape - reference) / np.linalg.norm(reference)
         revs = float(ds.cost_revolutions) if "cost_revolutions" in ds else 0.0
         rhs = int(ds.cost_rhs_evaluations) if "cost_rhs_evaluations" in ds else 0
         extra = ""
         if "pde_seconds" in ds.attrs:
             extra = f"  (fit {ds.attrs['fit_seconds']:.3g} s, PDE {ds.attrs['pde_seconds']:.3g} s)"
         print(f"{name:32s} {t:10.3g} {revs:12.0f} {rhs:12d} {int(ds.dominant_order):15d} "
-              f"{float(ds.stop_time) * life / 1e3:8.0f}{extra}")
+              f"{float(ds.stop_time) * life / 1e3:8.0f} {error:13.3g}{extra}")
     ref = times["direct, A = 500"]
     print("wall time / direct: " + ", ".join(f"{k} {v / ref:.3g}" for k, v in times.items() if k != "direct, A = 500"))
 
