@@ -5,7 +5,12 @@ saturation, 10 s) to the same tolerances with:
 
 - railwear's compiled Dormand-Prince 5(4), Dormand-Prince 8(5,3) and Rosenbrock 2(3) (integrator
   loop and right-hand side compiled together);
-- ``solve_ivp`` with RK45, DOP853 and LSODA calling the same compiled right-hand side from Python.
+- ``solve_ivp`` with RK45, DOP853 and LSODA calling the same compiled right-hand side from Python
+  (the most favourable case for scipy);
+- ``solve_ivp`` with RK45, DOP853 and LSODA calling ``plain_wheelset_rhs``, the wheelset written
+  as a plain Python function from the equations of ``docs/dynamics.md``: what a user without
+  railwear writes. It is an independent implementation on purpose (it calls nothing of railwear);
+  ``tests/dynamics/test_benchmark_alternative.py`` checks that it equals the compiled kernel.
 
 Every solver's error is the largest deviation of the lateral displacement from a reference run at
 rtol 1e-13 (compiled DOP853, checked against ``solve_ivp`` DOP853). Besides the table at equal
@@ -18,6 +23,7 @@ hand-side evaluations per second and the ratios. Run: ``python benchmarks/dynami
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -37,6 +43,52 @@ WHEELSET = dict(mass=1022.0, yaw_inertia=678.0, lateral_stiffness=1.823e6, yaw_s
                 f22=5.9e6, half_gauge=0.7163, rolling_radius=0.4572, conicity=0.05)
 
 
+def plain_wheelset_rhs(speed, mass, yaw_inertia, lateral_stiffness, yaw_stiffness, f11, f22, half_gauge,
+                       rolling_radius, conicity, f23=0.0, f33=0.0, lateral_damping=0.0, yaw_damping=0.0,
+                       wheel_load=50e3, friction_coefficient=math.inf, flange_clearance=math.inf,
+                       flange_stiffness=0.0):
+    """The suspended conical wheelset's right-hand side ``f(t, [y, psi, y', psi'])`` as a plain
+    Python function for ``solve_ivp`` (returned): the alternative a user without railwear writes
+    (SI units: m, rad, N, kg, m/s).
+
+    Deliberately independent of railwear (written from the equations of ``docs/dynamics.md``, no
+    railwear call), so the benchmark compares railwear with what a user would otherwise run.
+    Per wheel (``s`` = +1 left at ``+e``, -1 right): ``xi = -s (e psi'/V + lam y/r0)``,
+    ``eta = y'/V - psi``, ``phi = psi'/V - s lam/r0``; Kalker ``Fx = -f11 xi``,
+    ``Fy = -f22 eta - f23 phi``, ``Mz = f23 eta - f33 phi``, scaled by the Johnson-Vermeulen cubic
+    saturation of ``|(Fx, Fy)|`` at ``mu Q``. Flange: linear spring outside ``|y| <= clearance``.
+    ``m y'' = Fy_L + Fy_R + F_flange - k_y y - c_y y'``,
+    ``I psi'' = e (Fx_R - Fx_L) + Mz_L + Mz_R - k_psi psi - c_psi psi'``.
+    """
+    v, e, r0, lam = speed, half_gauge, rolling_radius, conicity
+    limit = friction_coefficient * wheel_load
+
+    def saturated(fx, fy, mz):
+        """Johnson-Vermeulen: ``r = |F| / (mu Q)``, factor ``1 - r/3 + r^2/27`` below 3, ``1/r`` above."""
+        r = math.hypot(fx, fy) / limit
+        c = 1.0 - r / 3.0 + r * r / 27.0 if r < 3.0 else 1.0 / r
+        return c * fx, c * fy, c * mz
+
+    def rhs(t, state):
+        y, psi, vy, vpsi = state
+        eta = vy / v - psi
+        longitudinal = e * vpsi / v + lam * y / r0
+        fx_l, fy_l, mz_l = saturated(f11 * longitudinal, -f22 * eta - f23 * (vpsi / v - lam / r0),
+                                     f23 * eta - f33 * (vpsi / v - lam / r0))
+        fx_r, fy_r, mz_r = saturated(-f11 * longitudinal, -f22 * eta - f23 * (vpsi / v + lam / r0),
+                                     f23 * eta - f33 * (vpsi / v + lam / r0))
+        flange = 0.0
+        if y > flange_clearance:
+            flange = -flange_stiffness * (y - flange_clearance)
+        elif y < -flange_clearance:
+            flange = -flange_stiffness * (y + flange_clearance)
+        force = fy_l + fy_r + flange - lateral_stiffness * y - lateral_damping * vy
+        moment = e * (fx_r - fx_l) + mz_l + mz_r - yaw_stiffness * psi - yaw_damping * vpsi
+        return np.array([vy, vpsi, force / mass, moment / yaw_inertia])
+
+    return rhs
+
+
 def best_of(n, fn):
     """Smallest wall time of ``n`` runs and the last result."""
     best, result = np.inf, None
@@ -49,8 +101,10 @@ def best_of(n, fn):
 
 def wheelset_case():
     vc = linear_critical_speed(**WHEELSET)
-    model = WheelsetModel(speed=1.2 * vc, **WHEELSET, flange_clearance=5e-3, flange_stiffness=1.5e7,
-                          friction_coefficient=0.3, wheel_load=50e3, initial_lateral_displacement=1e-3)
+    case = dict(WHEELSET, speed=1.2 * vc, flange_clearance=5e-3, flange_stiffness=1.5e7, friction_coefficient=0.3,
+                wheel_load=50e3)
+    model = WheelsetModel(**case, initial_lateral_displacement=1e-3)
+    plain_rhs = plain_wheelset_rhs(**case)
     p, surf, y0 = model.params(), model.surface(), model.initial_state()
     t_eval = np.linspace(0.0, T_END, 2001)
 
@@ -64,12 +118,14 @@ def wheelset_case():
         kernels.rhs(model.kind, t, y, p, surf, out)
         return out
 
-    def scipy_run(method, rtol, atol):
-        sol = solve_ivp(rhs, (0.0, T_END), y0, method=method, t_eval=t_eval, rtol=rtol, atol=atol)
+    def scipy_run(method, rtol, atol, fun=rhs):
+        sol = solve_ivp(fun, (0.0, T_END), y0, method=method, t_eval=t_eval, rtol=rtol, atol=atol)
         return sol.y.T, int(sol.nfev)
 
     solvers = [(name, lambda r, a, m=method: compiled(m, r, a), 5) for name, method in COMPILED]
-    solvers += [(f"solve_ivp {m}", lambda r, a, m=m: scipy_run(m, r, a), 2) for m in ("RK45", "DOP853", "LSODA")]
+    solvers += [(f"scipy {m}, compiled", lambda r, a, m=m: scipy_run(m, r, a), 2) for m in ("RK45", "DOP853", "LSODA")]
+    solvers += [(f"scipy {m}, plain", lambda r, a, m=m: scipy_run(m, r, a, plain_rhs), 2)
+                for m in ("RK45", "DOP853", "LSODA")]
 
     t0 = time.perf_counter()
     for _, method in COMPILED:
@@ -77,6 +133,7 @@ def wheelset_case():
     first_call = time.perf_counter() - t0
     reference = compiled(integ.METHOD_DOP853, 1e-13, 1e-15)[0][:, 0]
     check = np.max(np.abs(scipy_run("DOP853", 1e-13, 1e-15)[0][:, 0] - reference))
+    plain_check = np.max(np.abs(scipy_run("DOP853", 1e-13, 1e-15, plain_rhs)[0][:, 0] - reference))
 
     def measure(run, repeats, rtol, atol):
         wall, (ys, nfev) = best_of(repeats, lambda: run(rtol, atol))
@@ -85,11 +142,15 @@ def wheelset_case():
     print(f"Wheelset hunting at {model.speed:.1f} m/s (1.2 Vc), {T_END:g} s, output at {t_eval.size} times")
     print(f"(first calls incl. loading the compiled cache or compiling: {first_call:.2f} s; reference: compiled "
           f"DOP853 at rtol 1e-13, {check:.1e} m from solve_ivp DOP853 at rtol 1e-13)")
+    print(f"The plain Python RHS reproduces railwear's trajectory: solve_ivp DOP853 with it at rtol 1e-13 is "
+          f"{plain_check:.1e} m from the reference over {T_END:g} s (largest |y| {np.max(np.abs(reference)):.2e} m)")
+    print("'scipy X, compiled': solve_ivp calling railwear's compiled RHS through a Python wrapper (favourable to "
+          "scipy);\n'scipy X, plain': solve_ivp calling a plain numpy RHS, what a user without railwear writes.")
     print(f"\nEqual tolerance, rtol {RTOL:g}, atol {ATOL:g}:")
-    print(f"{'solver':<22}{'time [s]':>11}{'RHS evals':>11}{'evals/s':>12}{'time / dopri5':>15}{'max |dy| [m]':>14}")
+    print(f"{'solver':<26}{'time [s]':>11}{'RHS evals':>11}{'evals/s':>12}{'time / dopri5':>15}{'max |dy| [m]':>14}")
     rows = [(name, *measure(run, repeats, RTOL, ATOL)) for name, run, repeats in solvers]
     for name, wall, nfev, dev in rows:
-        print(f"{name:<22}{wall:>11.4f}{nfev:>11d}{nfev / wall:>12.3e}{wall / rows[0][1]:>15.1f}{dev:>14.2e}")
+        print(f"{name:<26}{wall:>11.4f}{nfev:>11d}{nfev / wall:>12.3e}{wall / rows[0][1]:>15.1f}{dev:>14.2e}")
     dae_case(model, t_eval, rows[0][1])
     equal_accuracy([(name, run, repeats) for name, run, repeats in solvers if "rosenbrock" not in name], measure)
     return rows
@@ -99,11 +160,11 @@ def equal_accuracy(solvers, measure):
     """Tolerance sweep (``SWEEP_RTOLS``) of each solver; times at the ``TARGET_ERRORS`` by log-log
     interpolation of time against error (where the sweep brackets the target)."""
     print(f"\nTolerance sweep, atol = rtol / 100: time [s] / max |dy| [m]")
-    print(f"{'solver':<22}" + "".join(f"{f'rtol {r:g}':>20}" for r in SWEEP_RTOLS))
+    print(f"{'solver':<26}" + "".join(f"{f'rtol {r:g}':>20}" for r in SWEEP_RTOLS))
     at_target = {}
     for name, run, repeats in solvers:
         sweep = [measure(run, repeats, rtol, rtol / 100.0) for rtol in SWEEP_RTOLS]
-        print(f"{name:<22}" + "".join(f"{f'{w:.4f} / {e:.1e}':>20}" for w, _, e in sweep))
+        print(f"{name:<26}" + "".join(f"{f'{w:.4f} / {e:.1e}':>20}" for w, _, e in sweep))
         errors = np.array([e for _, _, e in sweep])
         walls = np.array([w for w, _, _ in sweep])
         order = np.argsort(errors)
@@ -111,11 +172,11 @@ def equal_accuracy(solvers, measure):
                                                   left=np.nan, right=np.nan))) for target in TARGET_ERRORS]
     print("\nTime [s] to reach the same error (interpolated; - where the sweep does not reach it), and the ratio "
           "to the fastest compiled solver:")
-    print(f"{'solver':<22}" + "".join(f"{f'error {e:g} m':>22}" for e in TARGET_ERRORS))
+    print(f"{'solver':<26}" + "".join(f"{f'error {e:g} m':>22}" for e in TARGET_ERRORS))
     best = np.nanmin([at_target[name] for name in at_target if name.startswith("railwear")], axis=0)
     for name, times in at_target.items():
         cells = [f"{'-':>22}" if np.isnan(w) else f"{f'{w:.4f} ({w / b:.1f}x)':>22}" for w, b in zip(times, best)]
-        print(f"{name:<22}" + "".join(cells))
+        print(f"{name:<26}" + "".join(cells))
 
 
 def dae_case(model, t_eval, reference_time, roll_inertia=700.0):
@@ -143,7 +204,7 @@ def dae_case(model, t_eval, reference_time, roll_inertia=700.0):
     out = integ.integrate(twin.kind, twin.params(), twin.surface(), twin.initial_state(), 0.0, T_END, RTOL, ATOL,
                           integ.METHOD_DOPRI5, 0.0, np.inf, 10**8, t_eval, 1, False, 1e6, np.zeros(0))
     dev = np.max(np.abs(sol.q[:, 0] - out[1][: out[2], 0]))
-    print(f"{'GGL DAE, IDA':<22}{wall:>11.4f}{calls[0]:>11d}{calls[0] / wall:>12.3e}{wall / reference_time:>15.1f}"
+    print(f"{'GGL DAE, IDA':<26}{wall:>11.4f}{calls[0]:>11d}{calls[0] / wall:>12.3e}{wall / reference_time:>15.1f}"
           f"{dev:>14.2e}  (against its ODE twin; constraint drift {sol.constraint_drift:.1e} m)")
 
 
