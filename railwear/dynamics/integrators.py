@@ -17,6 +17,12 @@ Error control: weighted RMS norm ``|e_i| / (atol + rtol max(|y_i|, |y_new_i|))``
 requested times (dense output) or every ``every`` accepted steps. Sign changes of the model's
 event function (contact loss and regain of the disk wheel) are located on the dense output by the
 Illinois method and the step is cut there, so no step straddles the kink.
+
+Switches (``kernels.switching``: the flange contact of the conical wheelset and bogie, where the
+right-hand side has a kink): a rejected step across a sign change of the switching function is
+retried up to just past the switch (located on the step's cubic Hermite interpolant), and the
+step after it starts again at the rejected step's size. A step across a kink has a local error of
+low order whatever the method, so without this each switch costs several rejections.
 """
 
 from __future__ import annotations
@@ -26,7 +32,7 @@ import math
 import numpy as np
 from numba import njit
 
-from railwear.dynamics.kernels import contact_power, event, patch_half_angle, rhs, rhs_inline, sweep
+from railwear.dynamics.kernels import contact_power, event, patch_half_angle, rhs, rhs_inline, sweep, switching
 
 METHOD_DOPRI5 = 0
 METHOD_ROSENBROCK = 1
@@ -379,9 +385,21 @@ def _grow(ts, ys, n_used):
 
 
 @njit(cache=True)
-def _locate_event(kind, p, surf, t, y, h, q, g_lo, g_hi, tmp):
-    """Illinois root of the event function on the step's interpolant; returns ``s`` in (0, 1] on
-    the far side of the root (the new sign)."""
+def _hermite(y, ynew, f0, fnew, h, q):
+    """Cubic Hermite interpolant of a step from its end values and slopes, as ``_dense``
+    coefficients (for locating a switch in a rejected step, whose own interpolant is not built)."""
+    q[:, 3:] = 0.0
+    for i in range(y.shape[0]):
+        d = (ynew[i] - y[i]) / h
+        q[i, 0] = f0[i]
+        q[i, 1] = 3.0 * d - 2.0 * f0[i] - fnew[i]
+        q[i, 2] = f0[i] + fnew[i] - 2.0 * d
+
+
+@njit(cache=True)
+def _locate_event(kind, p, surf, t, y, h, q, g_lo, g_hi, tmp, switch):
+    """Illinois root of the event function (``switch``: of the switching function) on the step's
+    interpolant; returns ``s`` in (0, 1] on the far side of the root (the new sign)."""
     s_lo, s_hi = 0.0, 1.0
     side = 0
     for _ in range(100):
@@ -389,7 +407,10 @@ def _locate_event(kind, p, surf, t, y, h, q, g_lo, g_hi, tmp):
         if not (s > s_lo and s < s_hi):
             s = 0.5 * (s_lo + s_hi)
         _dense(y, h, q, s, tmp)
-        g = event(kind, t + s * h, tmp, p, surf)
+        if switch:
+            g = switching(kind, t + s * h, tmp, p, surf)
+        else:
+            g = event(kind, t + s * h, tmp, p, surf)
         if (g > 0.0) == (g_hi > 0.0) and g != 0.0:
             s_hi, g_hi = s, g
             if side == 1:
@@ -442,7 +463,7 @@ def _deposit_step(kind, p, surf, t, y, h, q, s_end, energy, tmp):
 
 @njit(cache=True)
 def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events, max_norm,
-              energy):
+              energy, cut_at_switches=True):
     """Integrate model ``kind`` from ``t0`` to ``t_end``.
 
     ``energy`` (one value per wheel cell, or empty for none): the frictional energy of the run
@@ -453,6 +474,8 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
     the event function turns positive, e.g. contact regained; -1 contact lost).
     With ``t_eval`` non-empty the output is at those times (ascending, within ``[t0, t_end]``),
     otherwise at ``t0``, every ``every`` accepted steps and ``t_end``.
+    ``cut_at_switches``: retry a rejected step that crosses a switch (``kernels.switching``) up to
+    the switch (see the module notes); ``False`` only to measure what it saves.
     """
     n = y0.shape[0]
     stats = np.zeros(5, dtype=np.int64)
@@ -534,6 +557,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
     status = STATUS_OK
     jac_fresh = False
     fac_max = 5.0
+    h_resume = 0.0  # after a step cut at a switch: the step size to go on with
     steps = 0
     while t < t_end:
         if steps >= max_steps:
@@ -578,6 +602,17 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
             en = _error_norm(err, y, ynew, rtol, atol)
         if en > 1.0:
             stats[STAT_NREJECT] += 1
+            if cut_at_switches and h_resume == 0.0:
+                g_a = switching(kind, t, y, p, surf)
+                g_b = switching(kind, t + h, ynew, p, surf)
+                if (g_a > 0.0) != (g_b > 0.0) and g_a != 0.0 and g_b != 0.0:
+                    # a kink inside: retry up to just past it, then go on with this step size
+                    _hermite(y, ynew, f0, fnew, h, q)
+                    s_cut = _locate_event(kind, p, surf, t, y, h, q, g_a, g_b, tmp, True)
+                    if s_cut > 1e-3:
+                        h_resume = h
+                        h *= s_cut
+                        continue
             h *= max(0.2, 0.9 * en ** (-1.0 / order))
             fac_max = 1.0
             continue
@@ -594,7 +629,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
                 if not q_ready:
                     stats[STAT_NFEV] += _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r)
                     q_ready = True
-                s_end = _locate_event(kind, p, surf, t, y, h, q, g_old, g_new, tmp)
+                s_end = _locate_event(kind, p, surf, t, y, h, q, g_old, g_new, tmp, False)
                 hit = 1 if g_new > 0.0 else -1
                 if s_end < 1.0:
                     t_new = t + s_end * h
@@ -652,6 +687,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
         jac_fresh = False
         if last:
             break
-        h = min(h * fac, h_max)
+        h = min(max(h * fac, h_resume), h_max)
+        h_resume = 0.0
     stats[STAT_NEVENTS] = n_ev
     return ts, ys, n_out, status, t, y, stats, ev_t[:n_ev], ev_y[:n_ev], ev_dir[:n_ev]

@@ -730,6 +730,20 @@ def event(kind, t, y, p, surf):
     return 1.0
 
 
+@njit(cache=True, inline="always")
+def switching(kind, t, y, p, surf):
+    """Switching function of model ``kind``: its sign changes where the right-hand side has a kink
+    that the integrators cut their steps at. Flange contact made or lost: ``|y - y_t| - clearance``
+    [m] for the wheelset, the product of the two wheelsets' gaps [m^2] for the conical bogie; 1
+    where a model has none."""
+    if kind == KIND_WHEELSET:
+        return abs(y[0] - _track_alignment(t, p, surf)) - p[WS_FLANGE_CLEARANCE]
+    if kind == KIND_BOGIE:
+        c = p[BG_FLANGE_CLEARANCE]
+        return (abs(y[0]) - c) * (abs(y[2]) - c)
+    return 1.0
+
+
 @njit(cache=True)
 def outputs(kind, ts, ys, p, surf, n_out):
     """Derived quantities at every output time: array ``(len(ts), n_out)``."""
