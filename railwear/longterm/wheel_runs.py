@@ -166,16 +166,17 @@ def stop_fraction(removed, increment, depth_limit):
 
 
 def checkpoint_from_fields(fields):
-    """The checkpoint of strategy 1 or 3 from the plain fields of its ``.npz`` file (``None`` when
-    the fields belong to neither): the class is told by its field names."""
+    """The checkpoint of strategy 1 or 3 (disk wheel or wheelset) from the plain fields of its
+    ``.npz`` file (``None`` when the fields belong to none): the class is told by its field names."""
     from dataclasses import fields as dataclass_fields
 
     from railwear.longterm.direct import DirectCheckpoint
     from railwear.longterm.stepwise import StepwiseCheckpoint
+    from railwear.longterm.wheelset_wear import WheelsetCheckpoint
 
-    for cls in (StepwiseCheckpoint, DirectCheckpoint):
-        names = {f.name: f.type for f in dataclass_fields(cls)}
+    plain = {"str": str, "int": int, "float": float}
+    for cls in (StepwiseCheckpoint, DirectCheckpoint, WheelsetCheckpoint):
+        names = {f.name: getattr(f.type, "__name__", f.type) for f in dataclass_fields(cls)}
         if set(fields) == set(names):
-            plain = {"str": str, "int": int, "float": float}
             return cls(**{k: plain[names[k]](v) if names[k] in plain else np.asarray(v) for k, v in fields.items()})
     return None

@@ -30,19 +30,22 @@ Normed time: ``life_distance`` metres of running are one unit. Both strategies' 
 ``surface_depth(wheel, angle, lateral)`` at the end, the removed and the law's volume, the contact
 positions and the largest lateral displacement seen per step, the tables' rolling-radius
 difference per step, and the cost (simulated seconds, right-hand sides, tables, wall seconds);
-stepwise adds the Monte Carlo standard error of the final worn depth. Not built: checkpoints and
-resume, scenario files.
+stepwise adds the Monte Carlo standard error of the final worn depth.
+
+Both ``run`` s take ``checkpoint`` (called with a :class:`WheelsetCheckpoint` after every step or
+update) and ``resume`` (one such checkpoint of the same problem): the resumed run gives the same
+result, bit for bit, as the uninterrupted one.
 """
 
 import time as _time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
 from railwear.errors import ScenarioError
 from railwear.geometry import contact_table, worn_profile
 from railwear.geometry.wear_surface import WearSurface, deposit_rectangles, ellipse_footprint
-from railwear.longterm.wheel_runs import stop_fraction
+from railwear.longterm.wheel_runs import fingerprint, rng_from_text, rng_state_text, stop_fraction
 
 WHEELS = ("left", "right")
 
@@ -219,6 +222,75 @@ def _seconds_check(name, value, seed):
         raise ScenarioError(f"seed must be a whole number >= 0, got {seed}")
 
 
+SAVED = ("time", "depth", "volume", "law", "cmin", "cmax", "amplitude", "rrd")
+
+
+@dataclass(frozen=True)
+class WheelsetCheckpoint:
+    """State of a wheelset run after ``steps`` steps (stepwise) or updates (direct), in plain
+    values and arrays for ``.npz``: normed time, the law's volume (m³), both wheels' depth (m,
+    wheel × angle × lateral), the Monte Carlo variance (m², stepwise; empty for direct), the
+    generator state as JSON text, the dynamics' state, start offset (m) and wheel angle (rad)
+    (direct; empty and 0 for stepwise), the cost so far and the outputs saved so far."""
+
+    fingerprint: str
+    steps: int
+    normed_time: float
+    law_volume: float
+    surface_depth: np.ndarray
+    variance: np.ndarray
+    rng_state: str
+    dynamics_state: np.ndarray
+    offset: float
+    phase: float
+    cost_seconds: float
+    cost_rhs: int
+    cost_tables: int
+    saved_time: np.ndarray
+    saved_depth: np.ndarray
+    saved_volume: np.ndarray
+    saved_law: np.ndarray
+    saved_cmin: np.ndarray
+    saved_cmax: np.ndarray
+    saved_amplitude: np.ndarray
+    saved_rrd: np.ndarray
+
+
+def _key(kind, problem, u0, until, depth_limit, *settings):
+    """Fingerprint of a wheelset run: the strategy, its ``settings``, the start, the end and the
+    problem (the model's fields but its table, which the run replaces; the profiles' points)."""
+    p = problem
+    model = {f.name: getattr(p.model, f.name) for f in fields(p.model) if f.name != "table"}
+    return fingerprint(kind, *settings, np.zeros(0) if u0 is None else np.asarray(u0, float), until, depth_limit,
+                       repr(model), p.wheel.y, p.wheel.z, p.rail.y, p.rail.z, (p.wheel.cant, p.rail.cant),
+                       p.beta, p.life_distance, np.asarray(p.shifts), np.asarray(p.lateral_edges), p.n_angle,
+                       p.transient, p.offsets, p.output_rate, p.footprint, p.radius)
+
+
+def _snapshot(key, j, T, law, surfaces, variance, rng, cost, saved, state=None, offset=0.0, phase=0.0):
+    """The :class:`WheelsetCheckpoint` of a run's variables."""
+    return WheelsetCheckpoint(
+        key, j, T, law, np.stack([s.depth for s in surfaces]), np.array(variance), rng_state_text(rng),
+        np.zeros(0) if state is None else np.array(state, float), float(offset), float(phase),
+        float(cost["seconds"]), int(cost["rhs"]), int(cost["tables"]),
+        *(np.array(saved[k]) for k in SAVED))
+
+
+def _restore(problem, resume, key):
+    """Generator, surfaces, table, cost, outputs, step, normed time and law's volume of ``resume``."""
+    if resume.fingerprint != key:
+        raise ScenarioError("resume: the checkpoint belongs to another wheelset problem or run")
+    surfaces = (problem.new_surface(), problem.new_surface())
+    for s, depth in zip(surfaces, resume.surface_depth):
+        s.depth[...] = depth
+    saved = _Saved()
+    for k in SAVED:
+        saved[k] = list(getattr(resume, f"saved_{k}"))
+    cost = {"seconds": float(resume.cost_seconds), "rhs": int(resume.cost_rhs), "tables": int(resume.cost_tables)}
+    return (rng_from_text(resume.rng_state), surfaces, problem.table(_fed(surfaces)), cost, saved,
+            int(resume.steps), float(resume.normed_time), float(resume.law_volume))
+
+
 def _begin(problem, u0, seed):
     """Generator, the two surfaces worn by the lateral depth ``u0`` (m), the fed start depth, its
     table, the cost counters and the outputs with the start saved."""
@@ -354,16 +426,21 @@ class WheelsetStepwise:
             seen = (min(seen[0], lo), max(seen[1], hi), max(seen[2], amplitude))
         return np.array(rates), np.array(law), seen, cost
 
-    def run(self, u0=None, until=1.0, depth_limit=None, progress=None):
+    def run(self, u0=None, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
         """Worn lateral profile over normed time from the lateral depth ``u0`` (m removed, on the
         lateral cells; default unworn) until ``until`` or ``depth_limit`` (m) at the most worn
-        spot of the fed profile."""
+        spot of the fed profile. ``checkpoint(WheelsetCheckpoint)`` is called after every step;
+        ``resume`` continues from one to the same result, bit for bit."""
         _checked(until, depth_limit)
         p = self.problem
         started = _time.perf_counter()
+        key = _key("stepwise", p, u0, until, depth_limit, self.step_limit, self.seconds, self.samples, self.seed)
         rng, surfaces, start_depth, table, cost, saved = _begin(p, u0, self.seed)
         T, law, j = 0.0, 0.0, 0
         variance = np.zeros((2, p.lateral.size))
+        if resume is not None:
+            rng, surfaces, table, cost, saved, j, T, law = _restore(p, resume, key)
+            variance = np.array(resume.variance, float)
         while T < until and (depth_limit is None or np.max(_fed(surfaces) - start_depth) < depth_limit * (1 - 1e-12)):
             if j >= self.max_steps:
                 raise ScenarioError(f"step_limit: {self.max_steps} steps did not reach the end; raise step_limit")
@@ -386,6 +463,8 @@ class WheelsetStepwise:
             saved.add(T, surfaces, law, seen, table)
             if progress is not None:
                 progress(min(T / until, 1.0))
+            if checkpoint is not None:
+                checkpoint(_snapshot(key, j, T, law, surfaces, variance, rng, cost, saved))
         error = {"worn_depth_final_standard_error": (("wheel", "lateral"), np.sqrt(variance),
                                                      {"units": "m", "long_name": "Monte Carlo standard error of the final worn depth"})}
         attrs = {"strategy": "wheelset stepwise frozen geometry", "steps": j, "step_limit_m": self.step_limit,
@@ -411,15 +490,21 @@ class WheelsetDirect:
             raise ScenarioError(f"acceleration factor must be >= 1, got {self.acceleration}")
         _seconds_check("update_seconds", self.update_seconds, self.seed)
 
-    def run(self, u0=None, until=1.0, depth_limit=None, progress=None):
-        """As :meth:`WheelsetStepwise.run`."""
+    def run(self, u0=None, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
+        """As :meth:`WheelsetStepwise.run`; checkpoints after every update."""
         _checked(until, depth_limit)
         p = self.problem
         started = _time.perf_counter()
+        key = _key("direct", p, u0, until, depth_limit, self.acceleration, self.update_seconds, self.seed)
         rng, surfaces, start_depth, table, cost, saved = _begin(p, u0, self.seed)
-        offset, phase = p.start(rng)
-        state = p.settle(table, offset, cost)
-        T, law, j = 0.0, 0.0, 0
+        if resume is None:
+            offset, phase = p.start(rng)
+            state = p.settle(table, offset, cost)
+            T, law, j = 0.0, 0.0, 0
+        else:
+            rng, surfaces, table, cost, saved, j, T, law = _restore(p, resume, key)
+            offset, phase = float(resume.offset), float(resume.phase)
+            state = np.array(resume.dynamics_state, float) if np.size(resume.dynamics_state) else None
         per_second = self.acceleration * p.model.speed / p.life_distance  # normed time per simulated second
         while T < until and (depth_limit is None or np.max(_fed(surfaces) - start_depth) < depth_limit * (1 - 1e-12)):
             if j >= self.max_updates:
@@ -440,6 +525,8 @@ class WheelsetDirect:
             saved.add(T, surfaces, law, _seen(ds), table)
             if progress is not None:
                 progress(min(T / until, 1.0))
+            if checkpoint is not None:
+                checkpoint(_snapshot(key, j, T, law, surfaces, np.zeros(0), rng, cost, saved, state, offset, phase))
         attrs = {"strategy": "wheelset direct coupled integration", "updates": j,
                  "acceleration": self.acceleration, "update_seconds": self.update_seconds,
                  "wall_seconds": _time.perf_counter() - started}

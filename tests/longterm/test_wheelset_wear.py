@@ -1,5 +1,7 @@
 """Long-term wear of the wheelset on real profiles (S1002 on UIC60): deposit, feedback, convergence."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -183,3 +185,70 @@ def test_section_script_runs_and_the_hunting_band_is_wider():
     for label in ("| stepwise, 2 um |", "| direct, A = 10000 |", "| direct, A = 5000 | reference |"):
         assert label in text
     assert "Fourier and phenomenological" in text and "### Why" in text
+
+
+class _Killed(Exception):
+    pass
+
+
+def _killed_after(k, saved):
+    """A checkpoint callable that keeps every checkpoint and kills the run after the ``k``-th."""
+    def keep(cp):
+        saved.append(cp)
+        if len(saved) == k:
+            raise _Killed
+    return keep
+
+
+RESUMED = [
+    (lambda p: WheelsetStepwise(p, 2e-7, seconds=0.5, samples=2, seed=3), 2),
+    (lambda p: WheelsetDirect(p, 2e3, update_seconds=0.1, seed=3), 2),
+]
+
+
+def _assert_same(resumed, whole):
+    for name in whole.data_vars:
+        np.testing.assert_array_equal(resumed[name].values, whole[name].values, err_msg=name)
+    np.testing.assert_array_equal(resumed.distance.values, whole.distance.values)
+
+
+@pytest.mark.parametrize("make_strategy, k", RESUMED)
+def test_a_killed_run_resumes_bit_for_bit(profiles, make_strategy, k):
+    """Killed after k steps (updates) and resumed from the last checkpoint: the same worn depth,
+    surface, volumes, Monte Carlo error and cost as the uninterrupted run, to the bit; another
+    problem's run refuses the checkpoint in one line."""
+    p = make(profiles, 60.0)
+    strategy = make_strategy(p)
+    whole = strategy.run(until=0.06)
+    assert whole.sizes["distance"] > k + 2
+    saved = []
+    with pytest.raises(_Killed):
+        strategy.run(until=0.06, checkpoint=_killed_after(k, saved))
+    assert saved[-1].steps == k
+    resumed = strategy.run(until=0.06, resume=saved[-1])
+    _assert_same(resumed, whole)
+    assert float(resumed.worn_depth.values[-1].max()) > 0
+    for other in (replace(strategy, seed=4), make_strategy(make(profiles, 59.0))):
+        with pytest.raises(ScenarioError, match="another wheelset problem") as err:
+            other.run(until=0.06, resume=saved[-1])
+        assert "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize("make_strategy, k", RESUMED)
+def test_checkpoints_survive_an_npz_file(profiles, make_strategy, k, tmp_path):
+    """Written as the result files write them (plain fields in an .npz), told apart from the disk
+    wheel's checkpoints by their fields, read back and resumed to the same result."""
+    from dataclasses import asdict
+
+    from railwear.longterm.wheel_runs import checkpoint_from_fields
+    from railwear.longterm.wheelset_wear import WheelsetCheckpoint
+
+    p = make(profiles, 60.0)
+    strategy = make_strategy(p)
+    saved = []
+    whole = strategy.run(until=0.06, checkpoint=saved.append)
+    np.savez(tmp_path / "cp.npz", **asdict(saved[k - 1]))
+    with np.load(tmp_path / "cp.npz", allow_pickle=False) as data:
+        back = checkpoint_from_fields({n: data[n] for n in data.files})
+    assert isinstance(back, WheelsetCheckpoint) and isinstance(back.fingerprint, str)
+    _assert_same(strategy.run(until=0.06, resume=back), whole)
