@@ -9,8 +9,9 @@ __all__ = ["load_scenario", "run", "simulate"]
 def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.0, resume_path=None):
     """Run a scenario (a :class:`~railwear.scenario.schema.Scenario`, a file or a built-in name).
 
-    Returns the solution with its spectrum, the resolved scenario as TOML, its hash and the
-    package version in the attributes. ``progress`` is called with the fraction done. With
+    Returns the solution with its spectrum (with ``[strategy] body = "wheelset"``: the worn
+    lateral profile over distance and the angular pattern, from the new profile), the resolved
+    scenario as TOML, its hash and the package version in the attributes. ``progress`` is called with the fraction done. With
     ``checkpoint_path`` the state is saved there at most every ``checkpoint_every`` seconds of
     wall time; ``resume_path`` continues from such a file (the scenario is then taken from it when
     ``scenario`` is None) to the same result, bit for bit, as an uninterrupted run.
@@ -40,11 +41,13 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
     solver = scenario.solver
     strategy = build.strategy(scenario)
     depth = None if solver.depth_limit_mm is None else solver.depth_limit_mm * 1e-3
-    ds = strategy.run(build.initial_state(scenario), until=solver.t_end, depth_limit=depth,
+    wheelset = scenario.strategy.body == "wheelset"  # starts from the new profile, over distance (m)
+    ds = strategy.run(None if wheelset else build.initial_state(scenario), until=solver.t_end, depth_limit=depth,
                       progress=progress, checkpoint=save, resume=resume)
     life_km = scenario.operation.life_distance_km
-    ds = ds.assign_coords(distance=("time", ds.time.values * life_km,
-                                    {"units": "km", "long_name": "distance run"}))
+    if not wheelset:
+        ds = ds.assign_coords(distance=("time", ds.time.values * life_km,
+                                        {"units": "km", "long_name": "distance run"}))
     ds.attrs.update({
         "title": f"railwear: {scenario.name}",
         "scenario_name": scenario.name,
@@ -52,6 +55,7 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
         "scenario_hash": scenario_hash(scenario),
         "railwear_version": __version__,
         "strategy": scenario.strategy.kind,
+        "body": scenario.strategy.body,
         "Conventions": "CF-1.10",
         "life_distance_km": life_km,
     })

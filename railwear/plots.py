@@ -1,4 +1,5 @@
-"""Figures of a result: the paper's Figs 9-11, the polygon spectrum and the stability map (layer 4)."""
+"""Figures of a result: the paper's Figs 9-11, the polygon spectrum and the stability map, the
+wheelset's worn lateral profile and angular pattern (layer 4)."""
 
 from pathlib import Path
 
@@ -92,7 +93,41 @@ def stability(map_ds):
     return fig
 
 
+def worn_profile(ds):
+    """Wheelset wear: depth removed (angle mean) over the lateral position on the wheel profile at a
+    few distances, one panel per wheel."""
+    fig, axes = _figure(7, 5.5, ds.sizes["wheel"])
+    picks = np.unique(np.round(np.linspace(0, ds.sizes["distance"] - 1, min(5, ds.sizes["distance"]))).astype(int))
+    for ax, wheel in zip(axes, ds.wheel.values):
+        for i, k in enumerate(picks):
+            ax.plot(ds.lateral.values * 1e3, ds.worn_depth.sel(wheel=wheel).values[k] * 1e6, color=f"C{i % 10}",
+                    label=f"{float(ds.distance[k]) * 1e-3:.0f} km")
+        ax.set(ylabel="worn depth (µm)", title=f"{wheel} wheel")
+        ax.legend(fontsize="small")
+    axes[-1].set_xlabel("lateral position on the wheel profile (mm, + field side)")
+    fig.suptitle(_title(ds, f"worn lateral profile at {float(ds.attrs['speed']) * 3.6:g} km/h"))
+    return fig
+
+
+def angular_pattern(ds):
+    """Wheelset wear: depth removed at the end over angle round the wheel and lateral position."""
+    fig, axes = _figure(7, 5.5, ds.sizes["wheel"])
+    n = ds.sizes["angle"]
+    edges = np.degrees(np.linspace(0, 2 * np.pi, n + 1))
+    lateral = ds.lateral.values
+    step = lateral[1] - lateral[0]
+    lateral_edges = np.concatenate([lateral - step / 2, [lateral[-1] + step / 2]]) * 1e3
+    for ax, wheel in zip(axes, ds.wheel.values):
+        mesh = ax.pcolormesh(edges, lateral_edges, ds.surface_depth.sel(wheel=wheel).values.T * 1e6, cmap="viridis")
+        fig.colorbar(mesh, ax=ax, label="worn depth (µm)")
+        ax.set(ylabel="lateral (mm)", title=f"{wheel} wheel")
+    axes[-1].set_xlabel("angle round the wheel (deg)")
+    fig.suptitle(_title(ds, "worn depth over angle and lateral position at the end"))
+    return fig
+
+
 FIGURES = {"profiles": profiles, "evolution": evolution, "spectrum": spectrum}
+WHEELSET_FIGURES = {"worn-profile": worn_profile, "angular-pattern": angular_pattern}
 
 
 def save(fig, path):
@@ -102,7 +137,8 @@ def save(fig, path):
 
 def write_figures(ds, directory):
     """Every figure of a result as ``DIRECTORY/NAME.png``; returns the paths."""
-    return [save(make(ds), Path(directory) / f"{name}.png") for name, make in FIGURES.items()]
+    figures = WHEELSET_FIGURES if "worn_depth" in ds else FIGURES
+    return [save(make(ds), Path(directory) / f"{name}.png") for name, make in figures.items()]
 
 
 REGIME_COLOURS = {"stable": "#4daf4a", "smoothing": "#377eb8", "onset": "#ff7f00",

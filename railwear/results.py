@@ -40,8 +40,34 @@ def read_netcdf(path):
         return ds.load()
 
 
+def wheelset_summary(ds: xr.Dataset):
+    """A wheelset wear result's run: distance, worn depth (mm) per wheel at its most worn spot
+    and the 90 % band it lies in, the contact range and hunting amplitude of the last step, cost."""
+    from railwear.longterm.wheelset_wear import band_width
+
+    last = ds.isel(distance=-1)
+    entry = {"speed_kmh": round(float(ds.attrs["speed"]) * 3.6, 6), "strategy": str(ds.attrs.get("strategy", "")),
+             "distance_km": float(last.distance) * 1e-3, "steps": int(ds.sizes["distance"] - 1)}
+    for wheel in ds.wheel.values:
+        depth = last.worn_depth.sel(wheel=wheel).values
+        entry[f"{wheel}_max_worn_depth_mm"] = float(depth.max()) * 1e3
+        entry[f"{wheel}_max_worn_at_mm"] = float(ds.lateral.values[depth.argmax()]) * 1e3
+    entry.update({
+        "band_90_mm": band_width(last.worn_depth.mean("wheel").values, ds.lateral.values) * 1e3,
+        "contact_range_mm": [float(last.contact_min) * 1e3, float(last.contact_max) * 1e3],
+        "lateral_amplitude_mm": float(last.lateral_amplitude) * 1e3,
+        "removed_volume_mm3": float(last.removed_volume) * 1e9,
+        "cost_seconds_simulated": float(ds.cost_seconds), "cost_rhs_evaluations": int(ds.cost_rhs_evaluations),
+        "cost_tables": int(ds.cost_tables)})
+    return entry
+
+
 def summary(ds: xr.Dataset):
-    """Dominant order, maxima, removed depth (mm) and regime, per speed when batched."""
+    """Dominant order, maxima, removed depth (mm) and regime, per speed when batched; for a
+    wheelset wear result, :func:`wheelset_summary`."""
+    if "worn_depth" in ds:
+        return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
+                "railwear_version": ds.attrs.get("railwear_version", ""), "runs": [wheelset_summary(ds)]}
     batch = [d for d in ds.regime.dims]
 
     def rows():
@@ -78,6 +104,15 @@ def summary_text(s):
     """A few lines for a person."""
     lines = [f"scenario {s['scenario']} (railwear {s['railwear_version']})"]
     for r in s["runs"]:
+        if "band_90_mm" in r:
+            lines.append(
+                f"  {r['speed_kmh']:g} km/h, wheelset {r['strategy']}: after {r['distance_km']:.0f} km worn "
+                f"{r['left_max_worn_depth_mm'] * 1e3:.2f} / {r['right_max_worn_depth_mm'] * 1e3:.2f} um at most "
+                f"(left / right), 90 % of the volume in a band {r['band_90_mm']:.1f} mm wide; last step: "
+                f"lateral amplitude {r['lateral_amplitude_mm']:.2f} mm, contact from {r['contact_range_mm'][0]:.1f} "
+                f"to {r['contact_range_mm'][1]:.1f} mm; {r['steps']} steps, {r['cost_seconds_simulated']:g} s "
+                f"simulated, {r['cost_tables']} contact tables")
+            continue
         lines.append(
             f"  {r['speed_kmh']:g} km/h: {r['regime']}, {r['maxima']} maxima, dominant order "
             f"{r['dominant_order']}, removed {r['max_removed_depth_mm']:.3f} mm at the most worn "
@@ -96,7 +131,8 @@ def write_summary(ds, directory):
 
 
 def write_checkpoint(path, checkpoint, scenario_toml, scenario_hash):
-    """Save an :class:`~railwear.pde.evolution.EvolutionCheckpoint` with its scenario (``.npz``)."""
+    """Save a checkpoint (the evolution equation's, or a strategy's of plain fields) with its
+    scenario (``.npz``)."""
     from dataclasses import asdict
 
     fields = asdict(checkpoint)

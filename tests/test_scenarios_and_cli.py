@@ -25,6 +25,8 @@ def runs():
 def test_every_builtin_runs_to_its_regime(runs):
     assert set(EXPECTED_REGIME) <= set(runs)
     for name, ds in runs.items():
+        if "worn_depth" in ds:
+            continue  # the wheelset wear case runs a given distance (tests/longterm/test_wheelset_wear_scenarios.py)
         if name in EXPECTED_REGIME:
             assert str(ds.regime.values) == EXPECTED_REGIME[name], name
         # every built-in case runs until 1 mm is gone at the most worn spot

@@ -89,6 +89,8 @@ def strategy(scenario: Scenario):
     from railwear.longterm.phenomenological import Phenomenological
 
     solver, speeds = scenario.solver, scenario.operation.speeds
+    if scenario.strategy.body == "wheelset":
+        return wheelset_strategy(scenario)
     if scenario.strategy.kind == "phenomenological":
         return Phenomenological(wear_rate(scenario), np.asarray(speeds, float), solver.epsilon, solver.nu,
                                 *odd_terms(scenario),
@@ -154,6 +156,58 @@ def direct(scenario: Scenario):
                   scenario.operation.life_distance_km * 1e3, st.acceleration_factor,
                   updates_per_revolution=st.updates_per_revolution,
                   transient_revolutions=st.transient_revolutions, n_save=scenario.solver.n_save)
+
+
+def profile(scenario: Scenario, which):
+    """The wheel or rail profile of ``[wheelset_wear]`` (``which`` "wheel" or "rail")."""
+    from railwear.geometry import load_profile
+
+    name = getattr(scenario.wheelset_wear, f"{which}_profile")
+    try:
+        return load_profile(name)
+    except (OSError, ValueError, ScenarioError) as e:
+        message = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise ScenarioError(f"wheelset_wear.{which}_profile: cannot load {name!r}: built-in S1002 or UIC60, "
+                            f"or a SIMPACK profile file ({message})") from None
+
+
+def wheelset_wear(scenario: Scenario):
+    """The :class:`~railwear.longterm.wheelset_wear.WheelsetWear` problem of ``[wheelset_wear]``
+    with the suspension of ``[wheelset]`` at the one operation speed."""
+    from railwear.dynamics import TableWheelsetModel
+    from railwear.geometry import contact_table
+    from railwear.longterm.wheelset_wear import WheelsetWear
+
+    speed, ww, c, w, ws = (scenario.operation.speeds, scenario.wheelset_wear, scenario.contact, scenario.wheel,
+                           scenario.wheelset)
+    if isinstance(speed, list):
+        raise ScenarioError("operation: the wheelset wear strategies take one speed; sweep over speeds instead")
+    n = max(int(round(ww.shift_max_mm / ww.shift_step_mm)), 1)
+    shifts = np.round(np.linspace(-ww.shift_max_mm, ww.shift_max_mm, 2 * n + 1) * 1e-3, 12)
+    wheel, rail = profile(scenario, "wheel"), profile(scenario, "rail")
+    table = contact_table(wheel, rail, y=shifts, axle_load=2 * w.static_load_kN * 1e3, rolling_radius=w.radius_m,
+                          youngs_modulus=c.youngs_modulus_GPa * 1e9, poisson=c.poisson)
+    model = TableWheelsetModel(speed=float(speed), mass=ws.mass_kg, yaw_inertia=ws.yaw_inertia_kg_m2,
+                               lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=ws.yaw_stiffness_N_m_rad,
+                               table=table, friction_coefficient=c.friction_coefficient)
+    edges = np.round(np.linspace(ww.lateral_min_mm, ww.lateral_max_mm, ww.lateral_cells + 1) * 1e-3, 12)
+    return WheelsetWear(model, wheel, rail, wear_law(scenario).beta, scenario.operation.life_distance_km * 1e3,
+                        shifts=tuple(shifts), lateral_edges=tuple(edges), n_angle=ww.angle_cells,
+                        transient=ww.transient_s, offsets=(ww.offset_min_mm * 1e-3, ww.offset_max_mm * 1e-3),
+                        output_rate=ww.output_rate_Hz, footprint=ww.footprint)
+
+
+def wheelset_strategy(scenario: Scenario):
+    """Strategy 3 (``kind = "stepwise"``) or 1 (``"direct"``) on the wheelset of ``[wheelset_wear]``,
+    seeded by ``service.seed``; ``run(None, until, depth_limit, ...)`` starts from the new profile."""
+    from railwear.longterm.wheelset_wear import WheelsetDirect, WheelsetStepwise
+
+    st, ww, seed = scenario.strategy, scenario.wheelset_wear, scenario.service.seed
+    problem = wheelset_wear(scenario)
+    if st.kind == "stepwise":
+        return WheelsetStepwise(problem, st.step_limit_um * 1e-6, seconds=ww.seconds_per_sample_s,
+                                samples=st.samples, seed=seed)
+    return WheelsetDirect(problem, st.acceleration_factor, update_seconds=ww.update_interval_s, seed=seed)
 
 
 def fitted_h(scenario: Scenario, speeds=None, scales=(0.5, 1.0, 1.5, 2.0), degree=3, bins=16):

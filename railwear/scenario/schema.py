@@ -127,7 +127,8 @@ class Initial(_Section):
 class Strategy(_Section):
     """The long-term strategy: the evolution equation (paper eq. 4), the Fourier technique, the
     stepwise frozen geometry or the direct coupled integration on the disk wheel of
-    ``[disk_wheel]``.
+    ``[disk_wheel]``; with ``body = "wheelset"`` the stepwise or direct strategy on the wheelset of
+    ``[wheelset_wear]`` instead.
 
     Stepwise: ``step_limit_um`` the largest change of ``u`` (``step_limit_on = "u"``) or of its
     shape ``u - mean(u)`` (``"shape"``) per long-term step, taken by ``scheme`` (``"euler"``, or
@@ -138,6 +139,7 @@ class Strategy(_Section):
     """
 
     kind: Literal["phenomenological", "fourier", "stepwise", "direct"] = "phenomenological"
+    body: Literal["disk_wheel", "wheelset"] = "disk_wheel"
     step_limit_um: Positive = 10.0
     step_limit_on: Literal["u", "shape"] = "u"
     scheme: Literal["euler", "adams-bashforth"] = "euler"
@@ -146,6 +148,12 @@ class Strategy(_Section):
     samples: Annotated[int, Field(ge=2, le=100000)] = 8
     acceleration_factor: Annotated[float, Field(ge=1, allow_inf_nan=False)] = 100.0
     updates_per_revolution: Annotated[int, Field(ge=1, le=1000)] = 1
+
+    @model_validator(mode="after")
+    def _wheelset_kinds(self):
+        if self.body == "wheelset" and self.kind not in ("stepwise", "direct"):
+            raise ValueError(f"body 'wheelset' takes kind 'stepwise' or 'direct', not {self.kind!r}")
+        return self
 
 
 class DiskWheel(_Section):
@@ -178,6 +186,66 @@ class Wheelset(_Section):
     yaw_stiffness_N_m_rad: NonNegative = 3.646e6
     half_gauge_m: Positive = 0.7163
     conicity: Positive = 0.05
+
+
+class WheelsetWear(_Section):
+    """Long-term wear of the wheelset on real profiles (``[strategy] body = "wheelset"``): the
+    worn lateral profile over distance and the angular pattern at the end.
+
+    The suspension is ``[wheelset]`` (mass, yaw inertia, stiffnesses; its conicity and half gauge
+    are not used: the contact table of the profiles gives the geometry), the speed
+    ``operation.speed_kmh`` (one), friction and elasticity ``[contact]``, the nominal rolling
+    radius ``wheel.radius_m``, the axle load twice ``wheel.static_load_kN``, the energy law
+    ``[wear]``, one unit of normed time ``operation.life_distance_km``, the run to
+    ``solver.t_end`` or ``solver.depth_limit_mm``, the seed ``service.seed``. Stepwise:
+    ``strategy.step_limit_um`` per step on the lateral profile, ``strategy.samples`` random starts
+    of ``seconds_per_sample_s`` each; direct: ``strategy.acceleration_factor``, the profile and
+    the contact table updated every ``update_interval_s`` of simulated time. Example::
+
+        [strategy]
+        kind = "stepwise"
+        body = "wheelset"
+        step_limit_um = 1.0
+        samples = 2
+
+        [wheelset_wear]
+        wheel_profile = "S1002"
+        rail_profile = "UIC60"
+        seconds_per_sample_s = 1.0
+
+    ``wheel_profile``/``rail_profile`` a built-in name (S1002, UIC60) or a SIMPACK profile file;
+    ``shift_max_mm``/``shift_step_mm`` the table's lateral shifts; ``lateral_min_mm``,
+    ``lateral_max_mm``, ``lateral_cells`` and ``angle_cells`` the wear surface on the wheel
+    profile; ``transient_s`` run before wear is gathered; each run starts from rest at a random
+    lateral offset between ``offset_min_mm`` and ``offset_max_mm`` (random sign);
+    ``output_rate_Hz`` the output times of the dynamics per simulated second.
+    """
+
+    wheel_profile: str = "S1002"
+    rail_profile: str = "UIC60"
+    shift_max_mm: Annotated[float, Field(gt=0, le=50, allow_inf_nan=False)] = 10.0
+    shift_step_mm: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)] = 0.1
+    lateral_min_mm: Finite = -50.0
+    lateral_max_mm: Finite = 40.0
+    lateral_cells: Annotated[int, Field(ge=2, le=10000)] = 180
+    angle_cells: Annotated[int, Field(ge=4, le=100000)] = 64
+    transient_s: NonNegative = 3.0
+    offset_min_mm: NonNegative = 1.0
+    offset_max_mm: NonNegative = 3.0
+    output_rate_Hz: Positive = 2000.0
+    footprint: Literal["hertz", "uniform"] = "hertz"
+    seconds_per_sample_s: Positive = 2.0
+    update_interval_s: Positive = 0.5
+
+    @model_validator(mode="after")
+    def _ranges(self):
+        if not self.lateral_min_mm < self.lateral_max_mm:
+            raise ValueError("lateral_min_mm must be below lateral_max_mm")
+        if self.offset_min_mm > self.offset_max_mm:
+            raise ValueError("offset_min_mm must not exceed offset_max_mm")
+        if self.shift_step_mm > self.shift_max_mm:
+            raise ValueError("shift_step_mm must not exceed shift_max_mm")
+        return self
 
 
 class Service(_Section):
@@ -220,3 +288,4 @@ class Scenario(_Section):
     strategy: Strategy = Strategy()
     disk_wheel: DiskWheel = DiskWheel()
     wheelset: Wheelset = Wheelset()
+    wheelset_wear: WheelsetWear = WheelsetWear()
