@@ -20,8 +20,9 @@ Illinois method and the step is cut there, so no step straddles the kink.
 
 Switches (``kernels.switching``: the flange contact of the conical wheelset and bogie, where the
 right-hand side has a kink): a rejected step across a sign change of the switching function is
-retried up to just past the switch (located on the step's cubic Hermite interpolant), and the
-step after it starts again at the rejected step's size. A step across a kink has a local error of
+retried up to just past the switch (located on the step's cubic Hermite interpolant; if that
+retry is rejected too, once more at the switch located in it), and the step after it starts
+again at the first rejected step's size. A step across a kink has a local error of
 low order whatever the method, so without this each switch costs several rejections.
 """
 
@@ -558,6 +559,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
     jac_fresh = False
     fac_max = 5.0
     h_resume = 0.0  # after a step cut at a switch: the step size to go on with
+    cuts = 0  # cuts of the current step (at most two: the second at the root of the first's retry)
     steps = 0
     while t < t_end:
         if steps >= max_steps:
@@ -602,7 +604,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
             en = _error_norm(err, y, ynew, rtol, atol)
         if en > 1.0:
             stats[STAT_NREJECT] += 1
-            if cut_at_switches and h_resume == 0.0:
+            if cut_at_switches and cuts < 2:
                 g_a = switching(kind, t, y, p, surf)
                 g_b = switching(kind, t + h, ynew, p, surf)
                 if (g_a > 0.0) != (g_b > 0.0) and g_a != 0.0 and g_b != 0.0:
@@ -610,7 +612,9 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
                     _hermite(y, ynew, f0, fnew, h, q)
                     s_cut = _locate_event(kind, p, surf, t, y, h, q, g_a, g_b, tmp, True)
                     if s_cut > 1e-3:
-                        h_resume = h
+                        if cuts == 0:
+                            h_resume = h
+                        cuts += 1
                         h *= s_cut
                         continue
             h *= max(0.2, 0.9 * en ** (-1.0 / order))
@@ -689,5 +693,6 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
             break
         h = min(max(h * fac, h_resume), h_max)
         h_resume = 0.0
+        cuts = 0
     stats[STAT_NEVENTS] = n_ev
     return ts, ys, n_out, status, t, y, stats, ev_t[:n_ev], ev_y[:n_ev], ev_dir[:n_ev]
