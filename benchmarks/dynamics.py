@@ -4,7 +4,8 @@ The same wheelset hunting case (1.2 times the linear critical speed, flange dead
 saturation, 10 s) to the same tolerances with:
 
 - railwear's compiled Dormand-Prince 5(4), Dormand-Prince 8(5,3) and Rosenbrock 2(3) (integrator
-  loop and right-hand side compiled together);
+  loop and right-hand side compiled together; rejected steps across a flange switch are cut at
+  it, and a table shows the explicit pairs with and without that);
 - ``solve_ivp`` with RK45, DOP853 and LSODA calling the same compiled right-hand side from Python
   (the most favourable case for scipy);
 - ``solve_ivp`` with RK45, DOP853 and LSODA calling ``plain_wheelset_rhs``, the wheelset written
@@ -108,10 +109,10 @@ def wheelset_case():
     p, surf, y0 = model.params(), model.surface(), model.initial_state()
     t_eval = np.linspace(0.0, T_END, 2001)
 
-    def compiled(method, rtol, atol):
+    def compiled(method, rtol, atol, cut=True, stats=False):
         out = integ.integrate(model.kind, p, surf, y0, 0.0, T_END, rtol, atol, method, 0.0, np.inf, 10**8, t_eval, 1,
-                              False, 1e6, np.zeros(0))
-        return out[1][: out[2]], int(out[6][integ.STAT_NFEV])
+                              False, 1e6, np.zeros(0), cut)
+        return out[1][: out[2]], (out[6] if stats else int(out[6][integ.STAT_NFEV]))
 
     def rhs(t, y):
         out = np.empty(4)
@@ -152,8 +153,23 @@ def wheelset_case():
     for name, wall, nfev, dev in rows:
         print(f"{name:<26}{wall:>11.4f}{nfev:>11d}{nfev / wall:>12.3e}{wall / rows[0][1]:>15.1f}{dev:>14.2e}")
     dae_case(model, t_eval, rows[0][1])
+    switch_cuts(compiled, reference)
     equal_accuracy([(name, run, repeats) for name, run, repeats in solvers if "rosenbrock" not in name], measure)
     return rows
+
+
+def switch_cuts(compiled, reference):
+    """The compiled explicit pairs with and without cutting rejected steps at the flange switches
+    (``integrate(..., cut_at_switches)``) at ``RTOL``: time, evaluations, steps, deviation."""
+    print(f"\nSteps cut at the flange switches, rtol {RTOL:g}, atol {ATOL:g} (railwear's default is on):")
+    print(f"{'solver':<26}{'cuts':>6}{'time [s]':>11}{'RHS evals':>11}{'accepted':>10}{'rejected':>10}"
+          f"{'max |dy| [m]':>14}")
+    for name, method in COMPILED[:2]:
+        for cut in (False, True):
+            wall, (ys, stats) = best_of(5, lambda: compiled(method, RTOL, ATOL, cut, True))
+            print(f"{name:<26}{'on' if cut else 'off':>6}{wall:>11.4f}{stats[integ.STAT_NFEV]:>11d}"
+                  f"{stats[integ.STAT_NACCEPT]:>10d}{stats[integ.STAT_NREJECT]:>10d}"
+                  f"{np.max(np.abs(ys[:, 0] - reference)):>14.2e}")
 
 
 def equal_accuracy(solvers, measure):
