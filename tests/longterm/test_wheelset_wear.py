@@ -188,7 +188,7 @@ def test_section_script_runs_and_the_hunting_band_is_wider():
 
 
 class _Killed(Exception):
-    pass
+    """Stands for the process being killed."""
 
 
 def _killed_after(k, saved):
