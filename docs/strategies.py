@@ -319,7 +319,7 @@ WHY = """## Why
   37/29/25 % at 150/120/70 km/h; without the drift the pattern ends in the wrong place even where
   its amplitude is right. The remaining error is the growth the local law cannot select. Cost:
   the fit's frozen-geometry runs (80 revolutions, 1/58-1/73 of the reference's) plus the PDE
-  solve (about a hundredth of a second, a third of it the spectra of the result); the fit is
+  solve (about a hundredth of a second, over half of it the spectra of the result (`describe`)); the fit is
   made once and serves every later run at that speed, so the marginal cost is the PDE solve
   alone, about 1/1000 of the reference (see Targets).
 - **Regimes.** The speed labels come from the Fourier map over orders 1-16 (150 km/h: every
