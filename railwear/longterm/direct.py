@@ -26,7 +26,7 @@ import numpy as np
 from railwear.errors import ScenarioError
 from railwear.longterm.wheel_runs import (Integration, WheelWear, advance, checked_start,
                                           result, depth_per_energy, fingerprint, start_lift,
-                                          stop_fraction, wheel_turn)
+                                          stop_fraction, wheel_turn, fraction_done)
 
 
 @dataclass(frozen=True)
@@ -135,10 +135,7 @@ class Direct(WheelWear):
                         depth_marks is not None and np.max(u0 - u) >= depth_marks[mark])):
                     mark += 1
                 if progress is not None:
-                    frac_done = T / until
-                    if depth_limit is not None:
-                        frac_done = max(frac_done, float(np.max(u0 - u)) / depth_limit)
-                    progress(min(frac_done, 1.0))
+                    progress(fraction_done(T, until, u0 - u, depth_limit))
                 if checkpoint is not None:
                     checkpoint(DirectCheckpoint(key, j, t, y.copy(), T, u.copy(), mark, np.array(saved),
                                                 np.array(times), nfev))

@@ -33,7 +33,7 @@ from railwear.errors import ScenarioError
 from railwear.longterm.wheel_runs import (Integration, WheelWear, advance, checked_start,
                                           result, depth_per_energy, fingerprint,
                                           rng_from_text, rng_state_text, start_lift, stop_fraction,
-                                          wheel_turn)
+                                          wheel_turn, fraction_done)
 
 
 @dataclass(frozen=True)
@@ -239,10 +239,7 @@ class Stepwise:
             saved_err.append(np.sqrt(var))
             times.append(T)
             if progress is not None:
-                done = T / until
-                if depth_limit is not None:
-                    done = max(done, float(np.max(u0 - u)) / depth_limit)
-                progress(min(done, 1.0))
+                progress(fraction_done(T, until, u0 - u, depth_limit))
             if checkpoint is not None:
                 checkpoint(StepwiseCheckpoint(key, j, T, u.copy(), var.copy(), rng_state_text(rng),
                                               np.array(saved), np.array(saved_err), np.array(times),

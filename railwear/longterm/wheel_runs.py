@@ -165,6 +165,15 @@ def stop_fraction(removed, increment, depth_limit):
     return float(np.clip(np.min(f), 0.0, 1.0))
 
 
+def fraction_done(T, until, removed, depth_limit):
+    """Progress of a run at normed time ``T``: the larger of ``T / until`` and the most worn
+    spot's ``max(removed) / depth_limit`` (``removed`` in m), at most 1."""
+    done = T / until
+    if depth_limit is not None:
+        done = max(done, float(np.max(removed)) / depth_limit)
+    return min(done, 1.0)
+
+
 def checkpoint_from_fields(fields):
     """The checkpoint of strategy 1 or 3 (disk wheel or wheelset) from the plain fields of its
     ``.npz`` file (``None`` when the fields belong to none): the class is told by its field names."""

@@ -45,7 +45,7 @@ import numpy as np
 from railwear.errors import ScenarioError
 from railwear.geometry import contact_table, worn_profile
 from railwear.geometry.wear_surface import WearSurface, deposit_rectangles, ellipse_footprint
-from railwear.longterm.wheel_runs import fingerprint, rng_from_text, rng_state_text, stop_fraction
+from railwear.longterm.wheel_runs import fingerprint, fraction_done, rng_from_text, rng_state_text, stop_fraction
 
 WHEELS = ("left", "right")
 
@@ -462,7 +462,7 @@ class WheelsetStepwise:
             cost["tables"] += 1
             saved.add(T, surfaces, law, seen, table)
             if progress is not None:
-                progress(min(T / until, 1.0))
+                progress(fraction_done(T, until, _fed(surfaces) - start_depth, depth_limit))
             if checkpoint is not None:
                 checkpoint(_snapshot(key, j, T, law, surfaces, variance, rng, cost, saved))
         error = {"worn_depth_final_standard_error": (("wheel", "lateral"), np.sqrt(variance),
@@ -524,7 +524,7 @@ class WheelsetDirect:
             cost["tables"] += 1
             saved.add(T, surfaces, law, _seen(ds), table)
             if progress is not None:
-                progress(min(T / until, 1.0))
+                progress(fraction_done(T, until, _fed(surfaces) - start_depth, depth_limit))
             if checkpoint is not None:
                 checkpoint(_snapshot(key, j, T, law, surfaces, np.zeros(0), rng, cost, saved, state, offset, phase))
         attrs = {"strategy": "wheelset direct coupled integration", "updates": j,
