@@ -1,5 +1,11 @@
-"""Wheel-rail contact mechanics: Hertz, Kalker's linear theory, FASTSIM, saturation (layer 1)."""
+"""Wheel-rail contact mechanics: Hertz, Kalker's linear theory, FASTSIM, saturation (layer 1).
 
+``contact_constants`` gives the model constants of one contact (Hertz constant, patch, Kalker's
+``f11 .. f33``); ``creep_tables`` tabulates FASTSIM's creep curve for the compiled dynamics.
+"""
+
+from railwear.contact.constants import contact_constants, creep_coefficients, shear_modulus
+from railwear.contact.creep_tables import CREEP_CURVE_POINTS, fastsim_creep_curve, fastsim_factor_table
 from railwear.contact.fastsim import (
     FastsimBatchResult,
     FastsimResult,
@@ -18,6 +24,7 @@ from railwear.contact.saturation import (
 )
 
 __all__ = [
+    "CREEP_CURVE_POINTS",
     "FastsimBatchResult",
     "FastsimResult",
     "HertzContact",
@@ -25,14 +32,19 @@ __all__ = [
     "POLACH_DRY",
     "POLACH_WET",
     "SaturatedForces",
+    "contact_constants",
+    "creep_coefficients",
     "effective_modulus",
     "fastsim",
     "fastsim_batch",
+    "fastsim_creep_curve",
+    "fastsim_factor_table",
     "flexibilities",
     "hertz_contact",
     "hertz_mnr",
     "kalker_coefficients",
     "linear_creep_forces",
     "polach",
+    "shear_modulus",
     "shen_hedrick_elkins",
 ]

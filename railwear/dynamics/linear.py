@@ -1,4 +1,5 @@
-"""Linear stability of the suspended wheelset: state matrix, closed-form and eigenvalue critical speeds.
+"""Linear stability: the wheelset's state matrix, the numerical state matrix of any compiled model
+(``numerical_state_matrix``), closed-form and eigenvalue critical speeds.
 
 The linear wheelset (lateral displacement ``y``, yaw ``psi``; Kalker's linear creep, conical wheels):
 
@@ -17,7 +18,9 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-__all__ = ["linear_critical_speed", "wheelset_state_matrix", "critical_speed", "max_real_part"]
+from railwear.dynamics import kernels as k
+
+__all__ = ["linear_critical_speed", "wheelset_state_matrix", "critical_speed", "max_real_part", "numerical_state_matrix"]
 
 
 def linear_critical_speed(
@@ -135,3 +138,22 @@ def critical_speed(model, v_min=0.5, v_max=1.0e4, n_scan=400) -> float:
 def _refine(model, v_lo, v_hi):
     return brentq(lambda v: max_real_part(model, v), v_lo, v_hi, xtol=1e-14 * v_hi, rtol=4 * np.finfo(float).eps,
                   maxiter=200)
+
+
+def numerical_state_matrix(kind, params, n_states, surf=None, step=1e-7) -> np.ndarray:
+    """Central-difference Jacobian of the compiled right-hand side at the zero state.
+
+    Exact to round-off where the right-hand side is linear about zero (saturation off, flange
+    dead band wider than ``step``), which is how the models call it; ``surf`` is the model's
+    table or surface array."""
+    jac = np.empty((n_states, n_states))
+    f_plus, f_minus = np.empty(n_states), np.empty(n_states)
+    surf = np.zeros(0) if surf is None else surf
+    for j in range(n_states):
+        y = np.zeros(n_states)
+        y[j] = step
+        k.rhs(kind, 0.0, y, params, surf, f_plus)
+        y[j] = -step
+        k.rhs(kind, 0.0, y, params, surf, f_minus)
+        jac[:, j] = (f_plus - f_minus) / (2.0 * step)
+    return jac

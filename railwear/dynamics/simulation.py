@@ -10,14 +10,12 @@ import xarray as xr
 
 from railwear.dynamics import integrators as integ
 from railwear.dynamics import kernels as k
-from railwear.dynamics.models import (
-    BogieModel,
-    DiskWheelModel,
-    TableBogieModel,
-    TableWheelsetModel,
-    WheelsetModel,
-    model_fields,
-)
+from railwear.dynamics._fields import model_fields
+from railwear.dynamics.bogie import BogieModel
+from railwear.dynamics.disk_wheel import DiskWheelModel
+from railwear.dynamics.table_bogie import TableBogieModel
+from railwear.dynamics.table_wheelset import TableWheelsetModel
+from railwear.dynamics.wheelset import WheelsetModel
 from railwear.errors import NumericalInstabilityError, ScenarioError
 
 __all__ = ["simulate", "METHODS"]

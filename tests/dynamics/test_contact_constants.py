@@ -1,11 +1,12 @@
-"""Model constants from railwear.contact: Hertz constant and Kalker coefficients."""
+"""Model constants from railwear.contact: Hertz constant and Kalker coefficients, as the disk wheel takes them."""
 
 import math
 
 import pytest
 
-from railwear.contact import hertz_contact, kalker_coefficients
-from railwear.dynamics import DiskWheelModel, contact_constants
+import railwear.dynamics
+from railwear.contact import contact_constants, hertz_contact, kalker_coefficients
+from railwear.dynamics import DiskWheelModel
 
 # wheel radius 0.46 m on a rail head of 0.3 m: A along rolling from the wheel, B across from the rail
 A, B = 0.5 / 0.46, 0.5 / 0.3
@@ -38,3 +39,9 @@ def test_disk_wheel_from_contact_constants_starts_at_static_equilibrium():
                            patch_half_length=const["patch_half_length"])
     assert model.static_approach == pytest.approx(const["static_approach"], rel=1e-12)
     assert math.isclose(model.contact_stiffness, 1.5 * 70e3 / const["static_approach"])
+
+
+def test_the_dynamics_re_export_the_contact_constants():
+    from railwear.dynamics.models import contact_constants as old_path
+
+    assert railwear.dynamics.contact_constants is contact_constants is old_path
