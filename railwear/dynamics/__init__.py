@@ -9,13 +9,16 @@
 - ``simulate(model, t_end, **options)``: a run into an ``xarray.Dataset`` (CF units, long names);
 - ``ramp_down(model, speeds)``: the nonlinear critical speed by following the limit cycle down;
 - ``railwear.dynamics.dae``: the GGL index-2 DAE forms solved with SUNDIALS IDA;
-- ``railwear.dynamics.integrators.integrate``: the compiled integrators (Dormand-Prince 5(4),
-  Rosenbrock 2(3)) with the model right-hand sides of ``railwear.dynamics.kernels`` in the loop.
+- ``Integrator(method, rtol, atol, ...).run(kind, params, surface, y0, t0, t_end)``: the compiled
+  integrators (Dormand-Prince 5(4) and 8(5,3), Rosenbrock 2(3); ``railwear.dynamics.integrators``)
+  with the model right-hand sides of ``railwear.dynamics.kernels`` in the loop, options and result
+  named (``IntegrationResult``).
 
 numba caches each compiled function keyed on its own source file only: after editing
 ``kernels.py``, delete ``railwear/dynamics/__pycache__/*.nb[ic]`` so the integrators are rebuilt.
 """
 
+from railwear.dynamics.integration import IntegrationResult, IntegrationStats, Integrator
 from railwear.dynamics.linear import critical_speed, linear_critical_speed, max_real_part, wheelset_state_matrix
 from railwear.dynamics.models import (
     BogieModel,
@@ -33,6 +36,9 @@ __all__ = [
     "BogieModel",
     "RampDown",
     "DiskWheelModel",
+    "IntegrationResult",
+    "IntegrationStats",
+    "Integrator",
     "TableBogieModel",
     "TableWheelsetModel",
     "WheelsetModel",

@@ -11,62 +11,45 @@ import xarray as xr
 from railwear.dynamics import integrators as integ
 from railwear.dynamics import kernels as k
 from railwear.dynamics._fields import model_fields
+from railwear.dynamics.integration import Integrator
 from railwear.dynamics.bogie import BogieModel
 from railwear.dynamics.disk_wheel import DiskWheelModel
 from railwear.dynamics.table_bogie import TableBogieModel
 from railwear.dynamics.table_wheelset import TableWheelsetModel
 from railwear.dynamics.wheelset import WheelsetModel
-from railwear.errors import NumericalInstabilityError, ScenarioError
+from railwear.errors import ScenarioError
 
 __all__ = ["simulate", "METHODS"]
 
 METHODS = integ.METHODS  # name -> method id, kept with the integrators
-_EPS = np.finfo(float).eps
 _log = logging.getLogger("railwear.dynamics")
 
 
 def _options(model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step, max_norm):
+    """``t_end``, the ``Integrator`` (which checks the tolerances and limits) and the output times."""
     try:
         t_end = float(t_end)
     except (TypeError, ValueError):
         raise ScenarioError(f"t_end: must be a number of seconds, got {t_end!r}") from None
     if not (t_end > 0.0 and math.isfinite(t_end)):
         raise ScenarioError(f"t_end: must be a positive finite time [s], got {t_end!r}")
-    if method not in METHODS:
-        raise ScenarioError(f"method: must be one of {sorted(METHODS)}, got {method!r}")
-    rtol = float(rtol)
-    if not (100.0 * _EPS <= rtol < 1.0):
-        raise ScenarioError(
-            f"rtol: cannot be met in double precision or is meaningless; need 2.2e-14 <= rtol < 1, got {rtol!r}"
-        )
-    atol = model.default_atol if atol is None else float(atol)
-    if not (atol > 0.0 and math.isfinite(atol)):
-        raise ScenarioError(f"atol: must be a positive finite number, got {atol!r}")
-    if not (max_step > 0.0):
-        raise ScenarioError(f"max_step: must be positive, got {max_step!r}")
-    if not (max_norm > 0.0):
-        raise ScenarioError(f"max_norm: must be positive, got {max_norm!r}")
-    if t_eval is None and output_every is None and (int(n_output) != n_output or n_output < 1):
-        raise ScenarioError(f"n_output: must be a positive whole number, got {n_output!r}")
-    if int(max_steps) < 1:
-        raise ScenarioError(f"max_steps: must be at least 1, got {max_steps!r}")
-    every = 1
     if t_eval is not None and output_every is not None:
         raise ScenarioError("output_every: give either t_eval or output_every, not both")
+    integrator = Integrator(method=method, rtol=rtol, atol=model.default_atol if atol is None else atol,
+                            max_steps=max_steps, max_step=max_step, max_norm=max_norm,
+                            events=model.kind == k.KIND_DISK_WHEEL, output_every=output_every)
     if output_every is not None:
-        every = int(output_every)
-        if every < 1:
-            raise ScenarioError(f"output_every: must be a positive number of steps, got {output_every!r}")
-        t_eval = np.zeros(0)
-    else:
-        if t_eval is None:
-            t_eval = np.linspace(0.0, t_end, int(n_output))
-        t_eval = np.asarray(t_eval, dtype=float)
-        if t_eval.ndim != 1 or t_eval.size == 0 or np.any(np.diff(t_eval) <= 0.0):
-            raise ScenarioError("t_eval: must be a non-empty, strictly increasing 1-D array of times [s]")
-        if t_eval[0] < 0.0 or t_eval[-1] > t_end:
-            raise ScenarioError(f"t_eval: times must lie in [0, t_end = {t_end}] s")
-    return t_end, METHODS[method], rtol, atol, t_eval, every
+        return t_end, integrator, np.zeros(0)
+    if t_eval is None:
+        if int(n_output) != n_output or n_output < 1:
+            raise ScenarioError(f"n_output: must be a positive whole number, got {n_output!r}")
+        t_eval = np.linspace(0.0, t_end, int(n_output))
+    t_eval = np.asarray(t_eval, dtype=float)
+    if t_eval.ndim != 1 or t_eval.size == 0 or np.any(np.diff(t_eval) <= 0.0):
+        raise ScenarioError("t_eval: must be a non-empty, strictly increasing 1-D array of times [s]")
+    if t_eval[0] < 0.0 or t_eval[-1] > t_end:
+        raise ScenarioError(f"t_eval: times must lie in [0, t_end = {t_end}] s")
+    return t_end, integrator, t_eval
 
 
 def simulate(
@@ -106,7 +89,7 @@ def simulate(
     """
     if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel, TableWheelsetModel, TableBogieModel)):
         raise ScenarioError(f"model: expected one of the railwear.dynamics models, got {type(model).__name__}")
-    t_end, method_id, rtol, atol, t_eval, every = _options(
+    t_end, integrator, t_eval = _options(
         model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step, max_norm
     )
     if chunks is None:
@@ -116,15 +99,14 @@ def simulate(
     p = model.params()
     surf = model.surface()
     y = model.initial_state() if initial_state is None else _initial_state(model, initial_state, p, surf)
-    use_events = model.kind == k.KIND_DISK_WHEEL
-    energy = np.zeros(0)
+    energy = None
     if cell_energy:
         if model.kind != k.KIND_DISK_WHEEL or model.n_cells() == 0:
             raise ScenarioError("cell_energy: needs a disk wheel with a radius_deviation grid")
         energy = np.zeros(model.n_cells())
     bounds = np.linspace(0.0, t_end, int(chunks) + 1)
     parts_t, parts_y, parts_ev_t, parts_ev_dir = [], [], [], []
-    stats = np.zeros(5, dtype=np.int64)
+    stats = None
     for i in range(int(chunks)):
         t0, t1 = bounds[i], bounds[i + 1]
         if t_eval.size:
@@ -136,33 +118,20 @@ def simulate(
             else:
                 drop_all = False
         else:
-            segment_eval, drop_all = t_eval, False
-        ts, ys, n_out, status, t_last, y_last, seg_stats, ev_t, ev_y, ev_dir = integ.integrate(
-            model.kind, p, surf, y, t0, t1, rtol, atol, method_id, 0.0, float(max_step), int(max_steps),
-            segment_eval, every, use_events, float(max_norm), energy,
-        )
-        stats += seg_stats
-        if status != integ.STATUS_OK:
-            reason = {
-                integ.STATUS_MAX_STEPS: f"max_steps = {max_steps} reached",
-                integ.STATUS_STEP_TOO_SMALL:
-                    "the step size fell to round-off (tolerance cannot be met or the solution is singular)",
-                integ.STATUS_BLOW_UP: f"a state exceeded max_norm = {max_norm:g}",
-            }[status]
-            raise NumericalInstabilityError(
-                f"{type(model).__name__}: {reason} at t = {t_last:.6g} s", last_good=y_last.copy(),
-                last_time=float(t_last),
-            )
+            segment_eval, drop_all = None, False
+        run = integrator.run(model.kind, p, surf, y, t0, t1, t_eval=segment_eval, energy=energy)
+        stats = run.stats if stats is None else stats + run.stats
+        run.check(type(model).__name__)
         first = 1 if (i > 0 and not t_eval.size) else 0  # every-n mode repeats the segment start
         if not drop_all:
-            parts_t.append(ts[first:n_out].copy())
-            parts_y.append(ys[first:n_out].copy())
-        parts_ev_t.append(ev_t.copy())
-        parts_ev_dir.append(ev_dir.copy())
-        y = y_last.copy()
+            parts_t.append(run.t_out[first:].copy())
+            parts_y.append(run.y_out[first:].copy())
+        parts_ev_t.append(run.event_t.copy())
+        parts_ev_dir.append(run.event_direction.copy())
+        y = run.y.copy()
         if chunks > 1:
             _log.info("%s: t = %.4g of %.4g s, %d right-hand sides", type(model).__name__, t1, t_end,
-                      int(stats[integ.STAT_NFEV]))
+                      stats.rhs_evaluations)
         if progress is not None:
             progress(float(t1 / t_end))
     ts, ys = np.concatenate(parts_t), np.concatenate(parts_y)
@@ -184,12 +153,12 @@ def simulate(
         {
             "model": type(model).__name__,
             "method": method,
-            "rtol": rtol,
-            "atol": atol,
-            "rhs_evaluations": int(stats[integ.STAT_NFEV]),
-            "accepted_steps": int(stats[integ.STAT_NACCEPT]),
-            "rejected_steps": int(stats[integ.STAT_NREJECT]),
-            "jacobian_evaluations": int(stats[integ.STAT_NJAC]),
+            "rtol": integrator.rtol,
+            "atol": integrator.atol,
+            "rhs_evaluations": stats.rhs_evaluations,
+            "accepted_steps": stats.accepted_steps,
+            "rejected_steps": stats.rejected_steps,
+            "jacobian_evaluations": stats.jacobian_evaluations,
         }
     )
     for name, value in model_fields(model).items():
