@@ -31,12 +31,13 @@ from functools import cached_property
 import numpy as np
 
 from railwear.errors import ScenarioError
-from railwear.pde.forms import BuiltinRate, Pointwise
+from railwear.pde.forms import BuiltinRate, Pointwise, register_rate
 
 _SCATTER_STEPS_PER_SIGMA = 2000  # resolution of the load-scatter convolution
 _LOAD_POINTS = 2049
 
 
+@register_rate
 @dataclass(frozen=True)
 class DiskContact(BuiltinRate):
     """Wear rate of the rigid disk wheel; SI units, rate in m per unit of normed life time."""

@@ -1,14 +1,18 @@
-"""Wear-rate functions ``h(u_xx; u, u_x, v)`` of the evolution equation (paper eq. 4).
+"""Wear-rate forms ``h(u_xx; u, u_x, v)`` of the evolution equation (paper eq. 4), and their registry.
 
 ``h`` returns the rate of change of the radius deviation in metres per unit of normed life time
 (negative where material is removed). The curvature ``s = u_xx`` is in metres per rad², the speed
 in m/s. Built-in forms depend on ``s`` and the speed only; each reduces, for one speed, to a
 :class:`Pointwise` function that the compiled solver evaluates. Any vectorised callable
 ``h(s, u, ux, speed)`` may be used instead (see :func:`as_wear_rate`).
+
+A new built-in form is one :class:`BuiltinRate` subclass with a ``name`` and ``at_speed``,
+decorated with :func:`register_rate`; :func:`wear_rate` and :func:`as_wear_rate` then select it
+by that name (``"cubic"``, ``"table"``, ``"disk_contact"``, ...).
 """
 
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
+from dataclasses import MISSING, dataclass, field, fields, is_dataclass
 from functools import cached_property
 
 import numpy as np
@@ -88,6 +92,44 @@ class BuiltinRate(ABC):
         return out
 
 
+_RATES = {}  # name -> BuiltinRate subclass
+
+
+def register_rate(cls):
+    """Class decorator: make the built-in form ``cls`` selectable by its ``name``."""
+    if not (isinstance(cls, type) and issubclass(cls, BuiltinRate)):
+        raise TypeError(f"register_rate takes a BuiltinRate subclass, not {cls!r}")
+    known = _RATES.setdefault(cls.name, cls)
+    if known is not cls:
+        raise ValueError(f"the wear-rate name {cls.name!r} is taken by {known.__qualname__}")
+    return cls
+
+
+def rate_names():
+    """The names of the registered built-in forms, sorted."""
+    return tuple(sorted(_RATES))
+
+
+def wear_rate(name, **parameters):
+    """The registered built-in form ``name`` with its parameters (SI units, see each form)."""
+    cls = _RATES.get(name)
+    if cls is None:
+        known = ", ".join(repr(n) for n in rate_names())
+        raise ScenarioError(f"unknown h {name!r}: use one of {known}, a form, or a callable")
+    if is_dataclass(cls):
+        names = {f.name for f in fields(cls)}
+        unknown = sorted(set(parameters) - names)
+        missing = [f.name for f in fields(cls) if f.name not in parameters
+                   and f.default is MISSING and f.default_factory is MISSING]
+        if unknown or missing:
+            raise ScenarioError(
+                f"h {name!r}: " + "; ".join(
+                    ([f"unknown parameters {', '.join(unknown)}"] if unknown else [])
+                    + ([f"needs {', '.join(missing)}"] if missing else [])))
+    return cls(**parameters)
+
+
+@register_rate
 @dataclass(frozen=True)
 class Cubic(BuiltinRate):
     """``h = c0 + c1 s + c3 s³`` (m, rad², 1/m² per unit normed time), the same at every speed."""
@@ -106,6 +148,7 @@ class Cubic(BuiltinRate):
         return Pointwise(np.array([self.c0, self.c1, 0.0, self.c3]))
 
 
+@register_rate
 @dataclass(frozen=True, eq=False)
 class Table(BuiltinRate):
     """``h`` tabulated over the curvature (m/rad²) and, optionally, the speed (m/s).
@@ -186,8 +229,8 @@ class CallableRate:
 
 
 def as_wear_rate(h):
-    """Accept a built-in form, its name, a vectorised callable ``h(s, u, ux, speed)``, or a list of
-    built-in forms (one per batch row)."""
+    """Accept a built-in form, a registered name (the form with its defaults), a vectorised
+    callable ``h(s, u, ux, speed)``, or a list of built-in forms (one per batch row)."""
     if isinstance(h, (list, tuple)):
         forms = [as_wear_rate(f) for f in h]
         if not forms or not all(isinstance(f, BuiltinRate) for f in forms):
@@ -196,12 +239,7 @@ def as_wear_rate(h):
     if isinstance(h, (BuiltinRate, CallableRate)):
         return h
     if isinstance(h, str):
-        if h == "disk_contact":
-            from railwear.pde.disk_contact import DiskContact
-
-            return DiskContact()
-        raise ScenarioError(
-            f"unknown h {h!r}: use 'disk_contact', a Cubic or Table form, or a callable")
+        return wear_rate(h)
     if callable(h):
         return CallableRate(h)
     raise ScenarioError(f"h must be a wear-rate form or a callable, not {type(h).__name__}")
