@@ -9,11 +9,15 @@ reported as a median with a 90 % band over the samples.
 
 import numpy as np
 import xarray as xr
+from pydantic import ValidationError
 
+from railwear.errors import ScenarioError
 from railwear.geometry import roundness
+from railwear.measured import read_measured
 from railwear.pde import solve_evolution
-from railwear.scenario import Scenario, scenario_hash, to_toml
+from railwear.scenario import Scenario, load_scenario, scenario_hash, to_toml
 from railwear.scenario import build
+from railwear.units import MM, kmh_to_m_s, m_s_to_kmh
 
 QUANTILES = (0.05, 0.5, 0.95)
 
@@ -24,7 +28,7 @@ def draw_conditions(scenario: Scenario):
     rng = np.random.default_rng(service.seed)
     base_speed = scenario.operation.speeds
     peaks = np.array(service.speed_kmh if service.speed_kmh else
-                     [v * 3.6 for v in np.atleast_1d(base_speed)])
+                     [m_s_to_kmh(v) for v in np.atleast_1d(base_speed)])
     weights = np.array(service.speed_weights) if service.speed_weights else np.full(peaks.size, 1 / peaks.size)
     speed = rng.choice(peaks, size=samples, p=weights) + service.speed_scatter_kmh * rng.standard_normal(samples)
     load = scenario.wheel.static_load_kN * (1 + service.load_scatter * rng.standard_normal(samples))
@@ -64,7 +68,7 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
     u0 = roundness.resample_measured(angle, deviation, scenario.solver.points)
     solver = scenario.solver
     t_end = solver.t_end if horizon is None else horizon
-    ds = solve_evolution(u0, t_end, forms, speed / 3.6, solver.epsilon, solver.nu, n_save=n_save,
+    ds = solve_evolution(u0, t_end, forms, kmh_to_m_s(speed), solver.epsilon, solver.nu, n_save=n_save,
                          dealias=solver.dealias, dt=solver.dt, progress=progress)
     life = scenario.operation.life_distance_km
     dev = ds.u - ds.u.mean("angle")
@@ -102,13 +106,37 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
     return out
 
 
+def forecast_file(measured, scenario=None, limit=0.3 * MM, samples=None, seed=None, horizon_km=None,
+                  angle_unit=None, deviation_unit=None, progress=None):
+    """:func:`forecast` for a measured wheel in a CSV file (see :mod:`railwear.measured`; the
+    units of plain ``angle`` and ``deviation`` columns are ``angle_unit`` 'deg' or 'rad' and
+    ``deviation_unit`` 'um', 'mm' or 'm'), a scenario file or built-in name, ``limit`` in m,
+    ``samples`` and ``seed`` in place of the scenario's ``[service]`` ones and ``horizon_km``
+    the distance to look ahead (default the scenario's ``solver.t_end`` lives)."""
+    sc = load_scenario(scenario)
+    service = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
+    if service:
+        try:
+            sc = sc.model_validate({**sc.model_dump(), "service": {**sc.service.model_dump(), **service}})
+        except ValidationError as e:
+            first = e.errors()[0]
+            raise ScenarioError(f"{first['loc'][-1]}: {first['msg']}") from None
+    if not limit > 0:
+        raise ScenarioError(f"limit: must be > 0 (m), got {limit!r}")
+    if horizon_km is not None and not horizon_km > 0:
+        raise ScenarioError(f"horizon_km: must be > 0 (km), got {horizon_km!r}")
+    horizon = None if horizon_km is None else horizon_km / sc.operation.life_distance_km
+    angle, deviation = read_measured(measured, angle_unit, deviation_unit, field=str(measured))
+    return forecast(sc, angle, deviation, limit, horizon, progress=progress)
+
+
 def report(ds):
     """Lines for a person."""
     def km(x):
         return f"{x:,.0f} km" if np.isfinite(x) else f"beyond {ds.attrs['horizon_km']:,.0f} km"
 
     a = ds.attrs
-    return (f"limit {a['limit_m'] * 1e3:g} mm peak-to-peak: median {km(a['crossing_median_km'])}, "
+    return (f"limit {a['limit_m'] / MM:g} mm peak-to-peak: median {km(a['crossing_median_km'])}, "
             f"90 % band {km(a['crossing_p05_km'])} to {km(a['crossing_p95_km'])} "
             f"({a['fraction_crossed']:.0%} of {ds.sizes['sample']} samples cross); "
             f"dominant order {a['dominant_order']}\n")

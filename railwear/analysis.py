@@ -1,0 +1,120 @@
+"""Analyses of a scenario besides a run: the stability map, strategy 4's fit of ``h`` and the
+paper's frozen-geometry figures (layer 4). Each builds the models with :mod:`railwear.scenario.build`
+and calls one solver; ``railwear stability``, ``railwear fit`` and ``railwear figure`` print and
+write what these return.
+"""
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from railwear.errors import ScenarioError
+from railwear.units import UM, kmh_to_m_s, m_s_to_kmh
+
+FIGURES = ("wear-surface", "teeth", "fitted-h")  # paper Figs 4, 7 and 8
+FIT_DEFAULT = "stepwise"  # the built-in disk-wheel scenario of the frozen-geometry strategies
+SPEEDS_KMH = tuple(range(20, 301, 10))  # the stability map's default speeds (km/h)
+ORDERS = tuple(range(1, 31))  # and polygon orders
+
+
+def _speeds_m_s(speeds_kmh, field="speeds_kmh"):
+    v = np.atleast_1d(np.asarray(speeds_kmh, float))
+    if v.ndim != 1 or v.size == 0 or not np.all(np.isfinite(v)) or v.min() <= 0:
+        raise ScenarioError(f"{field}: expected speeds > 0 (km/h), got {speeds_kmh!r}")
+    return kmh_to_m_s(v)
+
+
+def stability(scenario=None, speeds_kmh=SPEEDS_KMH, orders=ORDERS, amplitude=None):
+    """Growth rate over speed × polygon order; the ``speed`` coordinate is in m/s.
+
+    With ``[strategy] kind = "fourier"`` from the disk wheel's transfer functions (per km run),
+    else from the evolution equation's dispersion relation (per unit normed time) with the slope
+    frozen at the crest of ``amplitude`` (m; default the scenario's initial rms, 0 the round
+    wheel; the Fourier technique ignores it). Attributes: ``scenario_name``, ``scenario_hash``
+    and ``source``, a label for people.
+    """
+    from railwear.scenario import build, load_scenario, scenario_hash
+
+    v = _speeds_m_s(speeds_kmh)
+    n = np.atleast_1d(np.asarray(orders, float))
+    if n.ndim != 1 or n.size == 0 or not np.all(n == np.round(n)) or n.min() < 1:
+        raise ScenarioError(f"orders: expected whole numbers >= 1, got {orders!r}")
+    if amplitude is not None and not amplitude >= 0:
+        raise ScenarioError(f"amplitude: must be >= 0 (m), got {amplitude!r}")
+    sc = load_scenario(scenario)
+    if sc.strategy.kind == "fourier":
+        from railwear.longterm import fourier
+
+        ds = fourier.stability_map(lambda speed: build.disk_wheel_model(sc, speed), v, n.astype(int),
+                                   build.wear_law(sc), build.band_width(sc))
+        label = "disk-wheel dynamics (Fourier technique)"
+    else:
+        from railwear.pde import stability_map
+
+        a = sc.initial.rms_um * UM if amplitude is None else float(amplitude)
+        ds = stability_map(build.wear_rate(sc), v, n, sc.solver.epsilon, sc.solver.nu, a)
+        label = f"evolution equation, crest amplitude {a / UM:g} µm"
+    ds.attrs.update(scenario_name=sc.name, scenario_hash=scenario_hash(sc), source=label)
+    return ds
+
+
+class FitResult(NamedTuple):
+    """Strategy 4's fit: the frozen-geometry statistics, the fitted ``h``
+    (:class:`railwear.longterm.fitting.Fit`) and the scenario that runs with it."""
+
+    statistics: Any
+    fit: Any
+    scenario: Any
+
+
+def fit(scenario=None, speeds_kmh=None):
+    """Fit ``h(u_xx, v)`` to frozen-geometry statistics of a disk-wheel scenario (default the
+    built-in 'stepwise') at ``speeds_kmh`` (default the ``[service]`` peaks, paper Fig. 8); the
+    returned scenario has it as its ``[wear_rate]`` table and the phenomenological strategy."""
+    from railwear.scenario import build, load_scenario
+
+    v = None if speeds_kmh is None else _speeds_m_s(speeds_kmh)
+    sc = load_scenario(FIT_DEFAULT if scenario is None else scenario)
+    stats, fitted = build.fitted_h(sc, v)
+    return FitResult(stats, fitted, build.with_fitted_h(sc, fitted))
+
+
+class PaperFigure(NamedTuple):
+    """A figure and what it shows: the wear-intensity Dataset ('teeth'), the
+    :class:`~railwear.geometry.wear_surface.WearSurface` ('wear-surface') or the statistics and
+    the fit ('fitted-h')."""
+
+    data: Any
+    figure: Any
+
+
+def figure(name, scenario=None):
+    """One of the paper's frozen-geometry figures at the mean service speed of a disk-wheel
+    scenario (default the built-in 'stepwise'): 'wear-surface' (Fig. 4, 12 turns, wear
+    accelerated 1e6 times), 'teeth' (Fig. 7, 12 turns) or 'fitted-h' (Fig. 8)."""
+    from railwear import plots
+    from railwear.scenario import build, load_scenario
+
+    if name not in FIGURES:
+        raise ScenarioError(f"figure: unknown name {name!r}; use wear-surface, teeth or fitted-h")
+    sc = load_scenario(FIT_DEFAULT if scenario is None else scenario)
+    speed = build.service_speeds(sc).mean
+    if name == "fitted-h":
+        data = build.fitted_h(sc, [speed])
+        return PaperFigure(data, plots.fitted_relation(*data))
+    model, beta, band = build.disk_wheel_model(sc, speed), build.wear_law(sc).beta, build.band_width(sc)
+    u0 = build.initial_state(sc)
+    if name == "teeth":
+        from railwear.longterm.stepwise import wear_intensity
+
+        data = wear_intensity(model, u0, beta, band, turns=12)
+        return PaperFigure(data, plots.wear_intensity(data))
+    from railwear.geometry.wear_surface import WearSurface
+    from railwear.longterm.direct import surface_wear
+
+    b = band / 2
+    surface = WearSurface(model.radius, 180, np.linspace(-2 * b, 2 * b, 17))
+    surface, _ = surface_wear(model, u0, beta, surface, turns=12, per_turn=720, lateral_half_axis=b, acceleration=1e6)
+    title = (f"{sc.name}: depth after 12 turns, wear accelerated 1e6 times "
+             f"({m_s_to_kmh(speed):g} km/h, Hertz footprint)")
+    return PaperFigure(surface, plots.wear_surface(surface, title))
