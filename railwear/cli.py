@@ -12,6 +12,31 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
                   help="railwear: long-term wear of railway wheels and polygonalisation.")
 
 
+_QUIET_COMMANDS = ("plot", "scenarios", "show")  # compile nothing: no numba import for them
+_compile_notice = {"installed": False, "printed": False}
+
+
+@app.callback()
+def _announce_compiling(ctx: typer.Context):
+    """One line on standard error when numba starts compiling, i.e. its cache is cold (the first
+    run after an install or a change): up to a minute that would otherwise look like a hang."""
+    if ctx.invoked_subcommand in _QUIET_COMMANDS or _compile_notice["installed"]:
+        return
+    from numba.core import event
+
+    class Notice(event.Listener):
+        def on_start(self, _):  # a cache miss: numba loads cached kernels without this event
+            if not _compile_notice["printed"]:
+                _compile_notice["printed"] = True
+                typer.echo("compiling kernels (first run only)...", err=True)
+
+        def on_end(self, _):
+            pass
+
+    event.register("numba:compile", Notice())
+    _compile_notice["installed"] = True
+
+
 def _fail(message, status):
     typer.echo(f"railwear: error: {message}", err=True)
     raise typer.Exit(status)
@@ -169,35 +194,25 @@ def stability(
     From the evolution equation's dispersion relation, or, for a scenario with the Fourier
     strategy, from the disk wheel's transfer functions (per km run).
     """
-    from railwear import api, plots, results
-    from railwear.longterm import fourier
-    from railwear.pde import stability_map
-    from railwear.scenario import build, scenario_hash
+    from railwear import analysis, plots, results
+    from railwear.units import UM, m_s_to_kmh
 
     v = _parse_range(speeds, "--speeds")
     n = _parse_range(orders, "--orders")
     if v.min() <= 0 or n.min() < 1:
         _fail("--speeds must be > 0 and --orders >= 1", 2)
+    if amplitude_um is not None and amplitude_um < 0:
+        _fail("--amplitude-um must be >= 0", 2)
     try:
-        sc = api.load_scenario(scenario)
-        if sc.strategy.kind == "fourier":
-            ds = fourier.stability_map(lambda speed: build.disk_wheel_model(sc, speed), v / 3.6,
-                                       n.astype(int), build.wear_law(sc), build.band_width(sc))
-            label = "disk-wheel dynamics (Fourier technique)"
-        else:
-            amplitude = (sc.initial.rms_um if amplitude_um is None else amplitude_um) * 1e-6
-            if amplitude < 0:
-                raise ScenarioError("--amplitude-um must be >= 0")
-            ds = stability_map(build.wear_rate(sc), v / 3.6, n, sc.solver.epsilon, sc.solver.nu, amplitude)
-            label = f"evolution equation, crest amplitude {amplitude * 1e6:g} µm"
+        ds = analysis.stability(scenario, v, n, None if amplitude_um is None else amplitude_um * UM)
     except ScenarioError as e:
         _fail(str(e), 2)
-    ds.attrs.update(scenario_name=sc.name, scenario_hash=scenario_hash(sc), source=label)
+    label = ds.attrs["source"]
     results.write_netcdf(ds, output / "stability.nc")
     plots.save(plots.stability(ds), output / "stability.png")
     unstable = ds.growth_rate.max("order") > 0
     if bool(unstable.any()):
-        first = float(ds.speed.values[unstable.values.argmax()]) * 3.6
+        first = m_s_to_kmh(float(ds.speed.values[unstable.values.argmax()]))
         typer.echo(f"growth from {first:g} km/h ({label})")
     else:
         typer.echo(f"no order grows in {v.min():g}-{v.max():g} km/h ({label})")
@@ -255,6 +270,8 @@ def _print_sweep_table(ds):
     from rich.console import Console
     from rich.table import Table
 
+    from railwear.units import MM
+
     fields = [c for c in ds.coords if c != "angle"]
     table = Table(*fields, "regime", "maxima", "order", "depth (mm)", "p-p end/start")
     flat = ds.drop_vars("u_final", errors="ignore").stack(point=list(ds.regime.dims)) if ds.regime.ndim > 1 else ds
@@ -263,13 +280,15 @@ def _print_sweep_table(ds):
         ratio = float(p.peak_to_peak / p.peak_to_peak_initial) if float(p.peak_to_peak_initial) else float("nan")
         table.add_row(*(f"{float(p[f]):g}" for f in fields), str(p.regime.values),
                       f"{float(p.maxima):.0f}", f"{float(p.dominant_order):.0f}",
-                      f"{float(p.max_removed_depth) * 1e3:.3f}", f"{ratio:.2f}")
+                      f"{float(p.max_removed_depth) / MM:.3f}", f"{ratio:.2f}")
     Console(width=120).print(table)
 
 
 def _parse_length(text, field):
     """``0.3mm``, ``300um`` or ``3e-4m`` in metres."""
-    units = {"mm": 1e-3, "um": 1e-6, "µm": 1e-6, "m": 1.0}
+    from railwear.units import MM, UM
+
+    units = {"mm": MM, "um": UM, "µm": UM, "m": 1.0}
     for suffix in ("mm", "um", "µm", "m"):
         if text.strip().endswith(suffix):
             try:
@@ -294,22 +313,16 @@ def forecast(
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-forecast"),
 ):
     """When does this measured wheel pass its out-of-roundness limit? Median and 90 % band."""
-    from railwear import api, plots, results
     from railwear import forecast as forecasts
-    from railwear.measured import read_measured
+    from railwear import plots, results
 
     limit_m = _parse_length(limit, "--limit")
+    if horizon_km is not None and not horizon_km > 0:
+        _fail("--horizon-km must be > 0", 2)
     try:
-        sc = api.load_scenario(scenario)
-        service = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
-        if service:
-            sc = sc.model_validate({**sc.model_dump(), "service": {**sc.service.model_dump(), **service}})
-        if horizon_km is not None and not horizon_km > 0:
-            raise ScenarioError("--horizon-km must be > 0")
-        horizon = None if horizon_km is None else horizon_km / sc.operation.life_distance_km
-        angle, deviation = read_measured(measured, angle_unit, deviation_unit, field=str(measured))
         with _Warnings(), _Progress("railwear forecast") as progress:
-            ds = forecasts.forecast(sc, angle, deviation, limit_m, horizon, progress=progress)
+            ds = forecasts.forecast_file(measured, scenario, limit_m, samples, seed, horizon_km,
+                                         angle_unit, deviation_unit, progress=progress)
     except ScenarioError as e:
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
@@ -358,6 +371,7 @@ def simulate(
     """Run a short-time dynamics scenario: DIR/dynamics.nc and its figure (paper Figs 1-3, bifurcation)."""
     from railwear import api, plots, results
     from railwear.scenario import dynamics
+    from railwear.units import m_s_to_kmh
 
     try:
         sc = dynamics.load_dynamics_scenario(scenario)
@@ -375,8 +389,8 @@ def simulate(
         if key in ds.attrs:
             typer.echo(f"linear critical speed {ds.attrs[key]:.1f} km/h")
     if "hopf_speed" in ds.attrs:
-        typer.echo(f"Hopf point {ds.attrs['hopf_speed'] * 3.6:.1f} km/h, nonlinear critical speed "
-                   f"{ds.attrs['nonlinear_critical_speed'] * 3.6:.1f} km/h")
+        typer.echo(f"Hopf point {m_s_to_kmh(ds.attrs['hopf_speed']):.1f} km/h, nonlinear critical speed "
+                   f"{m_s_to_kmh(ds.attrs['nonlinear_critical_speed']):.1f} km/h")
     typer.echo(f"wrote {output / 'dynamics.nc'} and {output / (name + '.png')}")
 
 
@@ -387,34 +401,10 @@ def figure(
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-figures"),
 ):
     """One of the paper's frozen-geometry figures from a disk-wheel scenario ([disk_wheel], [initial])."""
-    import numpy as np
+    from railwear import analysis, plots
 
-    from railwear import api, plots
-    from railwear.scenario import build
-
-    if name not in ("wear-surface", "teeth", "fitted-h"):
-        _fail(f"figure: unknown name {name!r}; use wear-surface, teeth or fitted-h", 2)
     try:
-        sc = api.load_scenario("stepwise" if scenario is None else scenario)
-        speed = build.service_speeds(sc).mean
-        model, beta, band = build.disk_wheel_model(sc, speed), build.wear_law(sc).beta, build.band_width(sc)
-        u0 = build.initial_state(sc)
-        if name == "teeth":
-            from railwear.longterm.stepwise import wear_intensity
-
-            fig = plots.wear_intensity(wear_intensity(model, u0, beta, band, turns=12))
-        elif name == "wear-surface":
-            from railwear.geometry.wear_surface import WearSurface
-            from railwear.longterm.direct import surface_wear
-
-            b = band / 2
-            surface = WearSurface(model.radius, 180, np.linspace(-2 * b, 2 * b, 17))
-            surface, _ = surface_wear(model, u0, beta, surface, turns=12, per_turn=720, lateral_half_axis=b,
-                                        acceleration=1e6)
-            fig = plots.wear_surface(surface, f"{sc.name}: depth after 12 turns, wear accelerated 1e6 times "
-                                              f"({speed * 3.6:g} km/h, Hertz footprint)")
-        else:
-            fig = plots.fitted_relation(*build.fitted_h(sc, [speed]))
+        fig = analysis.figure(name, scenario).figure
     except ScenarioError as e:
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
@@ -432,14 +422,13 @@ def fit(
 ):
     """Strategy 4: fit h(u_xx, v) to frozen-geometry statistics (paper Fig. 8) and write it as a
     scenario with the table form: DIR/fitted-h.toml (run it with 'railwear run') and fitted-h.png."""
-    from railwear import api, plots, results
-    from railwear.scenario import build, to_toml
+    from railwear import analysis, plots, results
+    from railwear.scenario import to_toml
+    from railwear.units import m_s_to_kmh
 
-    v = None if speeds is None else _parse_range(speeds, "--speeds") / 3.6
+    v = None if speeds is None else _parse_range(speeds, "--speeds")
     try:
-        sc = api.load_scenario("stepwise" if scenario is None else scenario)
-        stats, fitted = build.fitted_h(sc, v)
-        out = build.with_fitted_h(sc, fitted)
+        stats, fitted, out = analysis.fit(scenario, v)
     except ScenarioError as e:
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
@@ -447,7 +436,7 @@ def fit(
     results.write_text(to_toml(out), output / "fitted-h.toml")
     plots.save(plots.fitted_relation(stats, fitted), output / "fitted-h.png")
     for speed, chi2 in zip(stats.speed.values, fitted.chi2):
-        typer.echo(f"{speed * 3.6:g} km/h: reduced chi2 {chi2:.2f} on the curvature bins")
+        typer.echo(f"{m_s_to_kmh(speed):g} km/h: reduced chi2 {chi2:.2f} on the curvature bins")
     typer.echo(f"wrote {output / 'fitted-h.toml'} and {output / 'fitted-h.png'}")
 
 

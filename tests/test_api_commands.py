@@ -6,9 +6,11 @@ import sys
 import numpy as np
 import pytest
 import xarray as xr
+from typer.testing import CliRunner
 
 import railwear
-from railwear import analysis
+from railwear import analysis, cli
+from railwear.cli import app
 from railwear.errors import ScenarioError
 from railwear.scenario import build, load_scenario, parse_scenario, scenario_hash
 from railwear.units import KMH, UM
@@ -175,3 +177,33 @@ def test_forecast_file_bad_input_names_the_field(wheel, monkeypatch, kwargs, mes
     else:
         with pytest.raises(ScenarioError, match=message):
             railwear.forecast.forecast_file(path, scenario, **kwargs)
+
+
+def test_cli_forecast_bad_samples_is_one_line_with_status_2(wheel):
+    path, _, _, scenario = wheel
+    r = CliRunner().invoke(app, ["forecast", str(path), "--scenario", str(scenario), "--samples", "0"])
+    assert r.exit_code == 2 and r.output.startswith("railwear: error: samples: ") and r.output.count("\n") == 1
+
+
+def test_compile_notice_once_when_numba_compiles_and_not_otherwise(monkeypatch, tmp_path):
+    """The notice hangs on numba's compile event, which a cache hit does not raise: a kernel
+    compiled during a command prints it (once), a command that compiles nothing stays quiet."""
+    import numba
+
+    def stub(compile_kernels):
+        def stability(*args, **kwargs):
+            if compile_kernels:  # two fresh kernels, no cache: numba compiles both
+                numba.njit(lambda x: x + 1)(1.0)
+                numba.njit(lambda x: x * 2)(1.0)
+            raise ScenarioError("stub")
+        return stability
+
+    monkeypatch.setitem(cli._compile_notice, "printed", False)
+    runner = CliRunner()
+    monkeypatch.setattr(analysis, "stability", stub(False))
+    quiet = runner.invoke(app, ["stability", "-o", str(tmp_path)])
+    assert quiet.exit_code == 2 and "compiling" not in quiet.output
+    monkeypatch.setattr(analysis, "stability", stub(True))
+    loud = runner.invoke(app, ["stability", "-o", str(tmp_path)])
+    assert loud.exit_code == 2
+    assert loud.output == "compiling kernels (first run only)...\nrailwear: error: stub\n"
