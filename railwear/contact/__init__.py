@@ -4,6 +4,8 @@
 ``f11 .. f33``); ``creep_tables`` tabulates FASTSIM's creep curve for the compiled dynamics.
 """
 
+from railwear import _numba_cache  # noqa: F401  (first: numba caches keyed on the sources)
+
 from railwear.contact.constants import contact_constants, creep_coefficients, shear_modulus
 from railwear.contact.creep_tables import CREEP_CURVE_POINTS, fastsim_creep_curve, fastsim_factor_table
 from railwear.contact.fastsim import (

@@ -14,9 +14,11 @@
   with the model right-hand sides of ``railwear.dynamics.kernels`` in the loop, options and result
   named (``IntegrationResult``).
 
-numba caches each compiled function keyed on its own source file only: after editing
-``kernels.py``, delete ``railwear/dynamics/__pycache__/*.nb[ic]`` so the integrators are rebuilt.
+The compiled functions' numba caches are keyed on their sources and the files those import
+(``railwear._numba_cache``): an edited kernel is recompiled, never run stale.
 """
+
+from railwear import _numba_cache  # noqa: F401  (first: numba caches keyed on the sources)
 
 from railwear.dynamics.integration import IntegrationResult, IntegrationStats, Integrator
 from railwear.dynamics.linear import critical_speed, linear_critical_speed, max_real_part, wheelset_state_matrix

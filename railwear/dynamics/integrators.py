@@ -1,7 +1,8 @@
 """Compiled ODE integrators with the model's right-hand side in the loop (numba, ``cache=True``).
 
 ``integrate`` advances ``y' = f(t, y)`` of the model ``kind`` (see ``railwear.dynamics.kernels``)
-with one of three embedded methods and adaptive steps:
+with one of three embedded methods and adaptive steps (``railwear.dynamics.Integrator`` is its
+Python face: the options and the result named):
 
 - ``METHOD_DOPRI5``: Dormand-Prince 5(4) (Dormand & Prince 1980), local extrapolation, FSAL, the
   fourth-order continuous extension (Hairer, Norsett & Wanner, Solving ODE I, II.6);

@@ -6,9 +6,8 @@ deviation grid, the wheelset's track alignment, a contact table, or the FASTSIM 
 ``rhs(kind, ...)`` selects the model by an integer, so the integrators in
 ``railwear.dynamics.integrators`` compile the loop and the model together without closures.
 
-Note for developers: numba's cache is keyed on the file of the cached function only. After editing
-this module, delete the ``*.nbi``/``*.nbc`` files of ``railwear/dynamics/__pycache__`` so that the
-cached integrators are recompiled against the new right-hand sides.
+The caches of the integrators are keyed on this file too (``railwear._numba_cache``), so an edit
+here recompiles them.
 """
 
 from __future__ import annotations
