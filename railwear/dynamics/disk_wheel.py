@@ -244,6 +244,7 @@ class DiskWheelModel:
         act on the rest (a uniform ``u`` makes ``x_c`` irrelevant)."""
         p = self.params()
         p[k.DW_N_CELLS] = 2
+        p[k.DW_CREEP_TABLE_OFFSET] = 5  # after the uniform surface's 2 nodes and 3 cumulative values
         y0 = self.initial_state()
         n = self.n_states
         omega_c = math.sqrt(self.contact_stiffness / self.wheel_mass)
@@ -254,7 +255,7 @@ class DiskWheelModel:
 
         def uniform(u):
             dx = math.pi
-            return np.array([u, u, 0.0, u * dx, 2.0 * u * dx])
+            return np.concatenate([[u, u, 0.0, u * dx, 2.0 * u * dx], self._creep_curve])
 
         def evaluate(y, u):
             f = np.empty(n)

@@ -254,3 +254,21 @@ def test_fastsim_creep_curve_does_not_depend_on_the_patch():
         for s in (0.3, 1.0, 2.5):
             direct = -fastsim(a, b, normal, s * mu * normal / f11, 0.0, 0.0, mu, shear, 0.28).Fx / (mu * normal)
             assert kernels.creep_curve(surf, offset, points, s) == pytest.approx(direct, rel=2e-3)
+
+
+@pytest.mark.parametrize("creep_law", ["cubic", "fastsim"])
+def test_linearisation_reads_the_creep_law_of_the_model(creep_law):
+    """The linearisation's outputs against central differences of the compiled outputs on the
+    model's own surface (round wheel, so ``u_bar = 0`` for both); under FASTSIM the creep force's
+    slope is the creep curve's, not zero (the uniform surface once lacked the curve)."""
+    model = DiskWheelModel(**P2, traction_torque=6e3, creep_law=creep_law)
+    _, _, c, _ = model.linearisation()
+    p, surf, y0 = model.params(), model.surface(), model.initial_state()
+    step = 1e-7 * y0[1]
+    yp, ym = y0.copy(), y0.copy()
+    yp[1] += step
+    ym[1] -= step
+    out = kernels.outputs(model.kind, np.zeros(2), np.stack([yp, ym]), p, surf, kernels.DW_N_OUTPUTS)[:, :4]
+    direct = (out[0] - out[1]) / (2 * step)  # d[N, xi, Fx, power] / d Omega
+    assert abs(direct[2]) > 1e3  # the creep force does change with the spin
+    np.testing.assert_allclose(c[:, 1], direct, rtol=1e-6, atol=1e-9 * np.abs(direct).max())
