@@ -20,7 +20,9 @@ import numpy as np
 
 from railwear.dynamics import TableWheelsetModel, critical_speed
 from railwear.geometry import contact_table, load_profile
-from railwear.longterm.wheelset_wear import WheelsetDirect, WheelsetStepwise, WheelsetWear, band_width
+from railwear.longterm.direct import Direct
+from railwear.longterm.stepwise import Stepwise
+from railwear.longterm.wheelset_wear import Wheelset, WheelsetWear, band_width
 from railwear.wear import EnergyLaw
 
 SUSPENSION = dict(mass=1022.0, yaw_inertia=678.0, lateral_stiffness=1.823e6, yaw_stiffness=2.0e6)
@@ -60,8 +62,8 @@ def centre(p):
 def warm_up():
     """Compile and load the kernels once, so that the wall times below are those of the runs."""
     p = problem(SPEEDS["hunting"])
-    WheelsetDirect(p, 1e5, UPDATE_SECONDS).run(until=0.01)
-    WheelsetStepwise(p, 1e-6, seconds=0.1, samples=2).run(until=0.001)
+    Direct(Wheelset(p, update_seconds=UPDATE_SECONDS), 1e5, n_save=None).run(until=0.01)
+    Stepwise(Wheelset(p, seconds=0.1, samples=2), 1e-6).run(until=0.001)
 
 
 def worn(ds):
@@ -93,11 +95,11 @@ def runs(speed, quick):
     out = {}
     for factor in factors:
         t = time.perf_counter()
-        ds = WheelsetDirect(p, factor, UPDATE_SECONDS).run(until=distance / LIFE)
+        ds = Direct(Wheelset(p, update_seconds=UPDATE_SECONDS), factor, n_save=None).run(until=distance / LIFE)
         out[f"direct, A = {factor:g}"] = (ds, time.perf_counter() - t)
     for limit in limits:
         t = time.perf_counter()
-        ds = WheelsetStepwise(p, limit, seconds=SECONDS, samples=SAMPLES).run(until=distance / LIFE)
+        ds = Stepwise(Wheelset(p, seconds=SECONDS, samples=SAMPLES), limit).run(until=distance / LIFE)
         out[f"stepwise, {limit * 1e6:g} um"] = (ds, time.perf_counter() - t)
     return p, out
 

@@ -20,6 +20,8 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
 
     from railwear import __version__, results
     from railwear.errors import ScenarioError
+    from railwear.longterm.base import check_result
+    from railwear.units import MM
     from railwear.scenario import parse_scenario
 
     resume = None
@@ -40,25 +42,19 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
 
     solver = scenario.solver
     strategy = build.strategy(scenario)
-    depth = None if solver.depth_limit_mm is None else solver.depth_limit_mm * 1e-3
-    wheelset = scenario.strategy.body == "wheelset"  # starts from the new profile, over distance (m)
-    ds = strategy.run(None if wheelset else build.initial_state(scenario), until=solver.t_end, depth_limit=depth,
+    depth = None if solver.depth_limit_mm is None else solver.depth_limit_mm * MM
+    ds = strategy.run(build.initial_wear(scenario), until=solver.t_end, depth_limit=depth,
                       progress=progress, checkpoint=save, resume=resume)
-    life_km = scenario.operation.life_distance_km
-    if not wheelset:
-        ds = ds.assign_coords(distance=("time", ds.time.values * life_km,
-                                        {"units": "km", "long_name": "distance run"}))
     ds.attrs.update({
         "title": f"railwear: {scenario.name}",
         "scenario_name": scenario.name,
         "scenario": to_toml(scenario),
         "scenario_hash": scenario_hash(scenario),
         "railwear_version": __version__,
-        "strategy": scenario.strategy.kind,
-        "body": scenario.strategy.body,
         "Conventions": "CF-1.10",
-        "life_distance_km": life_km,
+        "life_distance_km": scenario.operation.life_distance_km,
     })
+    return check_result(ds)
     return ds
 
 
@@ -77,10 +73,11 @@ def simulate(scenario, progress=None):
     from railwear.dynamics import simulate as run_model
     from railwear.dynamics.bifurcation import ramp_down
     from railwear.scenario import dynamics
+    from railwear.units import kmh_to_m_s, m_s_to_kmh
 
     if not isinstance(scenario, dynamics.DynamicsScenario):
         scenario = dynamics.load_dynamics_scenario(scenario)
-    speeds = np.array(scenario.run.speeds_kmh) / 3.6
+    speeds = kmh_to_m_s(np.array(scenario.run.speeds_kmh))
     attrs = {"scenario_name": scenario.name, "railwear_version": __version__,
              "title": f"railwear: {scenario.name}"}
     if scenario.model.kind == "cooperrider":
@@ -101,6 +98,6 @@ def simulate(scenario, progress=None):
         ds = xr.concat(runs, dim="speed", combine_attrs="drop_conflicts").assign_coords(
             speed=("speed", speeds, {"units": "m s-1", "long_name": "vehicle speed"}))
         if scenario.model.kind == "wheelset":
-            attrs["linear_critical_speed_kmh"] = float(critical_speed(dynamics.build(scenario, speeds[0]))) * 3.6
+            attrs["linear_critical_speed_kmh"] = m_s_to_kmh(float(critical_speed(dynamics.build(scenario, speeds[0]))))
     ds.attrs.update(attrs)
     return ds

@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 
 from railwear.results import _atomic
+from railwear.units import m_s_to_kmh
 
 
 def _figure(width, height, rows=1):
@@ -20,9 +21,9 @@ def _rows(ds):
     """``(label, dataset)`` per batch row."""
     batch = [d for d in ds.u.dims if d not in ("time", "angle")]
     if not batch:
-        return [(f"{float(ds.speed) * 3.6:g} km/h", ds)]
+        return [(f"{m_s_to_kmh(float(ds.speed)):g} km/h", ds)]
     dim = batch[0]
-    return [(f"{float(ds.speed[i]) * 3.6:g} km/h" if dim == "speed" else f"member {i}", ds.isel({dim: i}))
+    return [(f"{m_s_to_kmh(float(ds.speed[i])):g} km/h" if dim == "speed" else f"member {i}", ds.isel({dim: i}))
             for i in range(ds.sizes[dim])]
 
 
@@ -82,7 +83,7 @@ def stability(map_ds):
     fig, (ax,) = _figure(7, 4)
     rate = map_ds.growth_rate.values.T
     limit = max(float(np.max(np.abs(rate))), 1e-30)
-    speed = map_ds.speed.values * 3.6
+    speed = m_s_to_kmh(map_ds.speed.values)
     mesh = ax.pcolormesh(speed, map_ds.order.values, rate, shading="auto", cmap="RdBu_r",
                          vmin=-limit, vmax=limit)
     if rate.min() < 0 < rate.max() and speed.size > 1:
@@ -97,15 +98,15 @@ def worn_profile(ds):
     """Wheelset wear: depth removed (angle mean) over the lateral position on the wheel profile at a
     few distances, one panel per wheel."""
     fig, axes = _figure(7, 5.5, ds.sizes["wheel"])
-    picks = np.unique(np.round(np.linspace(0, ds.sizes["distance"] - 1, min(5, ds.sizes["distance"]))).astype(int))
+    picks = np.unique(np.round(np.linspace(0, ds.sizes["time"] - 1, min(5, ds.sizes["time"]))).astype(int))
     for ax, wheel in zip(axes, ds.wheel.values):
         for i, k in enumerate(picks):
             ax.plot(ds.lateral.values * 1e3, ds.worn_depth.sel(wheel=wheel).values[k] * 1e6, color=f"C{i % 10}",
-                    label=f"{float(ds.distance[k]) * 1e-3:.0f} km")
+                    label=f"{float(ds.distance[k]):.0f} km")
         ax.set(ylabel="worn depth (µm)", title=f"{wheel} wheel")
         ax.legend(fontsize="small")
     axes[-1].set_xlabel("lateral position on the wheel profile (mm, + field side)")
-    fig.suptitle(_title(ds, f"worn lateral profile at {float(ds.attrs['speed']) * 3.6:g} km/h"))
+    fig.suptitle(_title(ds, f"worn lateral profile at {m_s_to_kmh(float(ds.speed)):g} km/h"))
     return fig
 
 
@@ -127,7 +128,7 @@ def angular_pattern(ds):
 
 
 FIGURES = {"profiles": profiles, "evolution": evolution, "spectrum": spectrum}
-WHEELSET_FIGURES = {"worn-profile": worn_profile, "angular-pattern": angular_pattern}
+BODY_FIGURES = {"wheelset": {"worn-profile": worn_profile, "angular-pattern": angular_pattern}}
 
 
 def save(fig, path):
@@ -137,7 +138,7 @@ def save(fig, path):
 
 def write_figures(ds, directory):
     """Every figure of a result as ``DIRECTORY/NAME.png``; returns the paths."""
-    figures = WHEELSET_FIGURES if "worn_depth" in ds else FIGURES
+    figures = BODY_FIGURES.get(ds.attrs.get("body"), FIGURES)
     return [save(make(ds), Path(directory) / f"{name}.png") for name, make in figures.items()]
 
 
@@ -226,7 +227,7 @@ def lateral_motion(ds):
     for ax, v in zip(axes, speeds):
         d = ds.sel(speed=v) if ds.speed.ndim else ds
         ax.plot(d.time.values * v, d.lateral_displacement.values * 1e3, lw=0.8)
-        ax.set(ylabel="y (mm)", title=f"{v * 3.6:g} km/h")
+        ax.set(ylabel="y (mm)", title=f"{m_s_to_kmh(v):g} km/h")
     axes[-1].set_xlabel("distance (m)")
     vc = ds.attrs.get("linear_critical_speed_kmh")
     fig.suptitle("hunting of a wheelset" + (f" (linear critical speed {vc:.0f} km/h)" if vc else ""))
@@ -246,20 +247,20 @@ def contact_path(ds):
     fig.colorbar(mesh, ax=power, label="frictional power (W)")
     power.set(xlabel="contact angle on the wheel (deg)", ylabel="time (s)", xlim=(0, 360),
               title="frictional power over angle and time")
-    fig.suptitle(f"disk wheel at {float(np.atleast_1d(ds.speed.values)[0]) * 3.6:g} km/h")
+    fig.suptitle(f"disk wheel at {m_s_to_kmh(float(np.atleast_1d(ds.speed.values)[0])):g} km/h")
     return fig
 
 
 def bifurcation(ds):
     """Limit-cycle amplitude against speed from the ramp down, with the Hopf point."""
     fig, (ax,) = _figure(7, 4)
-    ax.plot(ds.speed.values * 3.6, ds.amplitude.values * 1e3, "o-")
+    ax.plot(m_s_to_kmh(ds.speed.values), ds.amplitude.values * 1e3, "o-")
     hopf = ds.attrs.get("hopf_speed")
     if hopf:
-        ax.axvline(hopf * 3.6, color="C3", ls="--", label=f"Hopf point {hopf * 3.6:.1f} km/h")
+        ax.axvline(m_s_to_kmh(hopf), color="C3", ls="--", label=f"Hopf point {m_s_to_kmh(hopf):.1f} km/h")
     nonlinear = ds.attrs.get("nonlinear_critical_speed")
     if nonlinear and np.isfinite(nonlinear):
-        ax.axvline(nonlinear * 3.6, color="k", ls=":", label=f"nonlinear critical {nonlinear * 3.6:.1f} km/h")
+        ax.axvline(m_s_to_kmh(nonlinear), color="k", ls=":", label=f"nonlinear critical {m_s_to_kmh(nonlinear):.1f} km/h")
     ax.set(xlabel="speed (km/h)", ylabel="limit-cycle amplitude (mm)", title="bifurcation diagram (ramp down)")
     ax.legend(fontsize="small")
     return fig
@@ -272,7 +273,7 @@ def wear_intensity(ds):
     teeth = ds.tooth_depth.values * 1e12
     ax.set(xlabel="time (s)", ylabel="depth rate (µm/h)",
            title=f"wear intensity at {np.degrees(ds.attrs['position_rad']):g} deg over {teeth.size} passes "
-                 f"({float(ds.attrs['speed']) * 3.6:g} km/h); teeth {teeth.min():.3g}-{teeth.max():.3g} pm each")
+                 f"({m_s_to_kmh(float(ds.attrs['speed'])):g} km/h); teeth {teeth.min():.3g}-{teeth.max():.3g} pm each")
     return fig
 
 
@@ -285,7 +286,7 @@ def fitted_relation(stats, fit):
         s = stats.curvature.values[i].ravel()
         ax.scatter(s * 1e3, stats.rate.values[i].ravel() * life, s=3, alpha=0.25, color=colour)
         ax.errorbar(fit.bin_curvature[i] * 1e3, fit.bin_rate[i] * life, yerr=fit.bin_error[i] * life, fmt="o",
-                    ms=4, color=colour, label=f"{v * 3.6:g} km/h, bin means (reduced chi² {fit.chi2[i]:.2f})")
+                    ms=4, color=colour, label=f"{m_s_to_kmh(v):g} km/h, bin means (reduced chi² {fit.chi2[i]:.2f})")
         grid = np.linspace(s.min(), s.max(), 200)
         ax.plot(grid * 1e3, fit(grid, i) * life, color=colour, lw=1.5)
     ax.set(xlabel="curvature u_xx (mm/rad²)", ylabel="u_T (mm per life)",

@@ -8,6 +8,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from railwear.units import MM, MM3, UM, m_s_to_kmh
+
 
 def _atomic(path, write):
     """Call ``write(tmp_path)`` on a temporary file beside ``path``, then rename it into place."""
@@ -45,18 +47,18 @@ def wheelset_summary(ds: xr.Dataset):
     and the 90 % band it lies in, the contact range and hunting amplitude of the last step, cost."""
     from railwear.longterm.wheelset_wear import band_width
 
-    last = ds.isel(distance=-1)
-    entry = {"speed_kmh": round(float(ds.attrs["speed"]) * 3.6, 6), "strategy": str(ds.attrs.get("strategy", "")),
-             "distance_km": float(last.distance) * 1e-3, "steps": int(ds.sizes["distance"] - 1)}
+    last = ds.isel(time=-1)
+    entry = {"speed_kmh": round(m_s_to_kmh(float(ds.speed)), 6), "strategy": str(ds.attrs.get("strategy", "")),
+             "distance_km": float(last.distance), "steps": int(ds.sizes["time"] - 1)}
     for wheel in ds.wheel.values:
         depth = last.worn_depth.sel(wheel=wheel).values
-        entry[f"{wheel}_max_worn_depth_mm"] = float(depth.max()) * 1e3
-        entry[f"{wheel}_max_worn_at_mm"] = float(ds.lateral.values[depth.argmax()]) * 1e3
+        entry[f"{wheel}_max_worn_depth_mm"] = float(depth.max()) / MM
+        entry[f"{wheel}_max_worn_at_mm"] = float(ds.lateral.values[depth.argmax()]) / MM
     entry.update({
-        "band_90_mm": band_width(last.worn_depth.mean("wheel").values, ds.lateral.values) * 1e3,
-        "contact_range_mm": [float(last.contact_min) * 1e3, float(last.contact_max) * 1e3],
-        "lateral_amplitude_mm": float(last.lateral_amplitude) * 1e3,
-        "removed_volume_mm3": float(last.removed_volume) * 1e9,
+        "band_90_mm": band_width(last.worn_depth.mean("wheel").values, ds.lateral.values) / MM,
+        "contact_range_mm": [float(last.contact_min) / MM, float(last.contact_max) / MM],
+        "lateral_amplitude_mm": float(last.lateral_amplitude) / MM,
+        "removed_volume_mm3": float(last.removed_volume) / MM3,
         "cost_seconds_simulated": float(ds.cost_seconds), "cost_rhs_evaluations": int(ds.cost_rhs_evaluations),
         "cost_tables": int(ds.cost_tables)})
     return entry
@@ -64,10 +66,11 @@ def wheelset_summary(ds: xr.Dataset):
 
 def summary(ds: xr.Dataset):
     """Dominant order, maxima, removed depth (mm) and regime, per speed when batched; for a
-    wheelset wear result, :func:`wheelset_summary`."""
-    if "worn_depth" in ds:
+    body with its own summary (:data:`BODY_SUMMARIES`, by the result's ``body``), that one."""
+    if ds.attrs.get("body") in BODY_SUMMARIES:
         return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
-                "railwear_version": ds.attrs.get("railwear_version", ""), "runs": [wheelset_summary(ds)]}
+                "railwear_version": ds.attrs.get("railwear_version", ""),
+                "runs": [BODY_SUMMARIES[ds.attrs["body"]](ds)]}
     batch = [d for d in ds.regime.dims]
 
     def rows():
@@ -80,24 +83,25 @@ def summary(ds: xr.Dataset):
     out = []
     for key, d in rows():
         entry = dict(key)
-        if "speed" in entry:
-            entry["speed_kmh"] = round(entry.pop("speed") * 3.6, 6)
-        else:
-            entry["speed_kmh"] = round(float(d.speed) * 3.6, 6)
+        entry.pop("speed", None)
+        entry["speed_kmh"] = round(m_s_to_kmh(float(d.speed)), 6)
         entry.update({
             "regime": str(d.regime.values),
             "dominant_order": int(d.dominant_order),
             "maxima": int(d.maxima),
-            "max_removed_depth_mm": float(d.removed_depth.isel(time=-1)) * 1e3,
-            "mean_removed_depth_mm": float(d.mean_removed_depth.isel(time=-1)) * 1e3,
-            "peak_to_peak_initial_um": float(d.peak_to_peak_initial) * 1e6,
-            "peak_to_peak_um": float(d.peak_to_peak) * 1e6,
+            "max_removed_depth_mm": float(d.removed_depth.isel(time=-1)) / MM,
+            "mean_removed_depth_mm": float(d.mean_removed_depth.isel(time=-1)) / MM,
+            "peak_to_peak_initial_um": float(d.peak_to_peak_initial) / UM,
+            "peak_to_peak_um": float(d.peak_to_peak) / UM,
             "stop_time": float(d.stop_time),
             "distance_km": float(d.stop_time) * float(ds.attrs.get("life_distance_km", 0.0)),
         })
         out.append(entry)
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
             "railwear_version": ds.attrs.get("railwear_version", ""), "runs": out}
+
+
+BODY_SUMMARIES = {"wheelset": wheelset_summary}
 
 
 def summary_text(s):
@@ -131,11 +135,8 @@ def write_summary(ds, directory):
 
 
 def write_checkpoint(path, checkpoint, scenario_toml, scenario_hash):
-    """Save a checkpoint (the evolution equation's, or a strategy's of plain fields) with its
-    scenario (``.npz``)."""
-    from dataclasses import asdict
-
-    fields = asdict(checkpoint)
+    """Save a :class:`~railwear.longterm.base.Checkpoint` with its scenario (``.npz``)."""
+    fields = checkpoint.plain()
     fields.update(scenario=np.array(scenario_toml), scenario_hash=np.array(scenario_hash))
 
     def write(tmp):
@@ -148,20 +149,12 @@ def write_checkpoint(path, checkpoint, scenario_toml, scenario_hash):
 def read_checkpoint(path):
     """``(checkpoint, scenario_toml, scenario_hash)`` from :func:`write_checkpoint`'s file."""
     from railwear.errors import ScenarioError
-    from railwear.pde.evolution import EvolutionCheckpoint
+    from railwear.longterm.base import Checkpoint
 
     try:
         with np.load(path, allow_pickle=False) as data:
             fields = {k: data[k] for k in data.files}
-    except (OSError, ValueError) as e:
+        toml, digest = str(fields.pop("scenario")), str(fields.pop("scenario_hash"))
+    except (OSError, ValueError, KeyError) as e:
         raise ScenarioError(f"checkpoint {path}: cannot be read ({e})") from None
-    toml, digest = str(fields.pop("scenario")), str(fields.pop("scenario_hash"))
-    from railwear.longterm.wheel_runs import checkpoint_from_fields
-
-    wheel_run = checkpoint_from_fields(fields)  # stepwise or direct, told by their fields
-    if wheel_run is not None:
-        return wheel_run, toml, digest
-    scalars = {"fingerprint": str, "intervals": int, "halvings": int}
-    for key, kind in scalars.items():
-        fields[key] = kind(fields[key])
-    return EvolutionCheckpoint(**fields), toml, digest
+    return Checkpoint.from_plain(fields, source=f"checkpoint {path}"), toml, digest

@@ -4,7 +4,7 @@ Scenario fields, command-line options, summaries and figure axes carry their uni
 (``speed_kmh``, ``static_load_kN``); they are converted here and nowhere else.
 """
 
-KMH = 1.0 / 3.6  # m/s per km/h
+KMH_PER_M_S = 3.6  # km/h per m/s (convert with the functions below, which divide by it)
 KM = 1e3  # m per km
 MM = 1e-3  # m per mm
 UM = 1e-6  # m per µm
@@ -17,9 +17,9 @@ MM3 = 1e-9  # m³ per mm³
 
 def kmh_to_m_s(v):
     """Speed from km/h to m/s (numbers, arrays or lists)."""
-    return [x * KMH for x in v] if isinstance(v, list) else v * KMH
+    return [x / KMH_PER_M_S for x in v] if isinstance(v, list) else v / KMH_PER_M_S
 
 
 def m_s_to_kmh(v):
     """Speed from m/s to km/h (numbers, arrays or lists)."""
-    return [x / KMH for x in v] if isinstance(v, list) else v / KMH
+    return [x * KMH_PER_M_S for x in v] if isinstance(v, list) else v * KMH_PER_M_S

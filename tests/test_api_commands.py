@@ -13,7 +13,7 @@ from railwear import analysis, cli
 from railwear.cli import app
 from railwear.errors import ScenarioError
 from railwear.scenario import build, load_scenario, parse_scenario, scenario_hash
-from railwear.units import KMH, UM
+from railwear.units import UM, kmh_to_m_s, m_s_to_kmh
 
 
 def test_import_stays_light_and_the_entries_resolve():
@@ -36,7 +36,7 @@ def test_stability_of_a_fourier_scenario_is_the_transfer_function_map():
     assert sc.strategy.kind == "fourier"
     speeds_kmh, orders = [120.0, 240.0], [2, 5, 9]
     ds = railwear.stability(sc, speeds_kmh, orders, amplitude=1e-5)  # the amplitude is the PDE's only
-    direct = fourier.stability_map(lambda v: build.disk_wheel_model(sc, v), np.array(speeds_kmh) * KMH, orders,
+    direct = fourier.stability_map(lambda v: build.disk_wheel_model(sc, v), kmh_to_m_s(np.array(speeds_kmh)), orders,
                                    build.wear_law(sc), build.band_width(sc))
     xr.testing.assert_allclose(ds, direct, rtol=1e-12)
     assert ds.growth_rate.attrs["units"] == "km-1"
@@ -53,13 +53,13 @@ def test_stability_of_the_evolution_equation_is_its_dispersion_map(amplitude):
     speeds_kmh, orders = np.array([60.0, 180.0, 300.0]), np.arange(1, 13)
     ds = railwear.stability("polygonalisation", speeds_kmh, orders, amplitude)
     a = sc.initial.rms_um * UM if amplitude is None else amplitude
-    direct = stability_map(build.wear_rate(sc), speeds_kmh * KMH, orders, sc.solver.epsilon, sc.solver.nu, a)
+    direct = stability_map(build.wear_rate(sc), kmh_to_m_s(speeds_kmh), orders, sc.solver.epsilon, sc.solver.nu, a)
     xr.testing.assert_allclose(ds, direct, rtol=1e-12)
     assert ds.attrs["amplitude"] == a
     assert ds.attrs["source"] == f"evolution equation, crest amplitude {a / UM:g} µm"
     # the default grid is the command line's 20:300:10 km/h x 1:30
     full = railwear.stability("polygonalisation", amplitude=amplitude)
-    np.testing.assert_allclose(full.speed.values / KMH, np.arange(20, 301, 10))
+    np.testing.assert_allclose(m_s_to_kmh(full.speed.values), np.arange(20, 301, 10))
     np.testing.assert_array_equal(full.order.values, np.arange(1, 31))
 
 

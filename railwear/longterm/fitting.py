@@ -1,7 +1,7 @@
 """Strategy 4's fit: ``h(u_xx, u_x, u_xxx; v)`` from frozen-geometry statistics (paper Fig. 8, eq. 4).
 
 For each speed, the disk wheel runs over a set of frozen geometries (strategy 3's Monte Carlo,
-:class:`~railwear.longterm.stepwise.FrozenGeometry`). Every cell gives a pair: the local
+:class:`~railwear.longterm.disk_wheel.DiskWheel`). Every cell gives a pair: the local
 curvature ``u_xx`` (m/rad², spectral, as the evolution equation sees it) and the mean rate
 ``u_T = -r`` (m per unit normed time) with its standard error, and the odd derivatives ``u_x``
 (m/rad) and ``u_xxx`` (m/rad³). ``h = p(u_xx) + c u_x + d u_xxx``, ``p`` a polynomial of low
@@ -47,7 +47,7 @@ def curvature(u):
 
 def gather(frozen, speeds, geometries, rng):
     """Frozen-geometry statistics: ``frozen(speed)`` gives the
-    :class:`~railwear.longterm.stepwise.FrozenGeometry` at a speed (m/s); ``geometries`` is
+    :class:`~railwear.longterm.disk_wheel.DiskWheel` at a speed (m/s); ``geometries`` is
     ``(n_geometries, n_angles)`` of ``u`` (m). Returns a Dataset over (speed, geometry, angle) with
     ``curvature``, ``slope`` (``u_x``), ``third_derivative`` (``u_xxx``), ``rate`` (``u_T``, m per unit normed time) and ``standard_error``, and the cost."""
     geometries = np.atleast_2d(np.asarray(geometries, float))

@@ -20,6 +20,8 @@ import numpy as np
 import xarray as xr
 
 from railwear.errors import ScenarioError
+from railwear.longterm.base import Strategy, checked_start, stop_time, time_coordinates
+from railwear.longterm.spectra import describe
 
 
 def contact_filter(orders, half_angle):
@@ -158,7 +160,7 @@ class Fourier:
 
 
 @dataclass(frozen=True)
-class FourierStrategy:
+class FourierStrategy(Strategy, name="fourier"):
     """The Fourier technique behind the strategy interface, in normed life time (one unit is
     ``life_distance`` metres at the model's speed)."""
 
@@ -169,17 +171,19 @@ class FourierStrategy:
     def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
         """Like :meth:`Phenomenological.run`; the solution is exact, so there is nothing to
         checkpoint or resume and ``checkpoint`` and ``resume`` are not used."""
-        from railwear.longterm.phenomenological import describe
-
         speed = self.fourier.speed
-        ds = self.fourier.run(u0, until * self.life_distance / speed, self.n_save, depth_limit)
+        ds = self.fourier.run(checked_start(u0, until, depth_limit), until * self.life_distance / speed,
+                              self.n_save, depth_limit)
         seconds = ds.time.values
         ds = ds.drop_vars(["time", "distance"]).assign_coords(
-            time=("time", seconds * speed / self.life_distance, {"units": "1", "long_name": "normed life time"}),
-            service_time=("time", seconds, {"units": "s", "long_name": "time in service"}))
+            time_coordinates(seconds * speed / self.life_distance, self.life_distance, speed))
+        ds = ds.assign_coords(service_time=("time", seconds, {"units": "s", "long_name": "time in service"}))
         ds = ds.rename({"growth_rate": "harmonic_growth_rate", "drift": "harmonic_drift"})
-        ds["stop_time"] = ((), float(ds.time[-1]), {"units": "1", "long_name": "normed time at which the run stopped"})
-        ds = ds.assign_coords(speed=((), speed, {"units": "m s-1", "long_name": "vehicle speed"}))
+        ds["stop_time"] = stop_time(ds.time.values)
+        ds["cost_transfer_evaluations"] = ((), ds.sizes["order"],
+                                           {"units": "1", "long_name": "orders of the transfer function evaluated"})
+        ds.attrs.update(strategy=self.name, body="disk_wheel", scenario_hash="",
+                        strategy_description=ds.attrs["strategy"])
         if progress is not None:
             progress(1.0)
         return describe(ds.drop_vars("order"))

@@ -1,20 +1,21 @@
 """Strategy 4 of the paper: the phenomenological evolution equation ``u_T = h(u_xx; u, u_x, v)``,
 here ``h(u_xx; v) + drift(v) u_x + dispersion(v) u_xxx`` (as fitted by :mod:`railwear.longterm.fitting`)."""
 
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
-import xarray as xr
 
-from railwear.geometry import roundness
+from railwear.longterm.base import Checkpoint, Strategy
+from railwear.longterm.spectra import describe
 from railwear.pde import as_wear_rate, solve_evolution
+from railwear.units import KM
 
 
 @dataclass(frozen=True)
-class Phenomenological:
+class Phenomenological(Strategy, name="phenomenological"):
     """Evolve a wheel's radius deviation under a wear-rate form ``h`` at one or more speeds (m/s),
     with the odd terms ``drift u_x + dispersion u_xxx`` (rad and rad³ per unit normed time; one
-    value or one per speed)."""
+    value or one per speed); ``life_distance`` (m) is one unit of normed time."""
 
     h: object
     speed: float | np.ndarray
@@ -23,52 +24,29 @@ class Phenomenological:
     drift: float | np.ndarray = 0.0
     dispersion: float | np.ndarray = 0.0
     options: dict = field(default_factory=dict)
+    life_distance: float = 5e7
 
     def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
         """Solve to normed time ``until`` or removed depth ``depth_limit`` (m); add the wheel's spectrum.
 
-        ``checkpoint`` and ``resume`` are passed to :func:`~railwear.pde.solve_evolution`.
+        ``checkpoint`` is called with a :class:`~railwear.longterm.base.Checkpoint` of the PDE
+        solver's state after each output interval; ``resume`` continues from one.
         """
+        from railwear.pde.evolution import EvolutionCheckpoint
+
+        save = None if checkpoint is None else (
+            lambda cp: checkpoint(Checkpoint(self.name, cp.fingerprint, asdict(cp))))
+        if resume is not None:
+            resume.check(self.name, resume.fingerprint)
+            resume = EvolutionCheckpoint(**resume.fields)
         ds = solve_evolution(u0, until, as_wear_rate(self.h), self.speed, self.epsilon, self.nu,
-                             depth_limit=depth_limit, progress=progress, checkpoint=checkpoint,
+                             depth_limit=depth_limit, progress=progress, checkpoint=save,
                              resume=resume, drift=self.drift, dispersion=self.dispersion, **self.options)
+        steps = np.round(np.asarray(ds.stop_time) / np.asarray(ds.time_step))
+        ds["cost_time_steps"] = (ds.stop_time.dims, steps,
+                                 {"units": "1", "long_name": "ETDRK4 steps at the final step size"})
+        ds = ds.assign_coords(distance=("time", ds.time.values * self.life_distance / KM,
+                                        {"units": "km", "long_name": "distance run"}))
+        ds.attrs.update(strategy=self.name, body="disk_wheel", scenario_hash="",
+                        strategy_description="phenomenological evolution equation")
         return describe(ds)
-
-
-def describe(ds: xr.Dataset):
-    """Add removed depth over time and the initial and final polygon spectra to a solution."""
-    u = ds.u
-    batch = [d for d in u.dims if d not in ("time", "angle")]
-    u0, u_end = u.isel(time=0), u.isel(time=-1)
-    removed = (u0 - u).max("angle")
-    ds["removed_depth"] = removed.assign_attrs(
-        units="m", long_name="largest radius lost since the start (most worn spot)")
-    ds["mean_removed_depth"] = (u0 - u).mean("angle").assign_attrs(
-        units="m", long_name="mean radius lost since the start")
-    deviation = u - u.mean("angle")
-    rows = deviation.transpose(*batch, "time", "angle").values.reshape(-1, u.sizes["time"], u.sizes["angle"])
-    spectra = [(roundness.polygon_spectrum(r[0]), roundness.polygon_spectrum(r[-1])) for r in rows]
-    shape = [u.sizes[d] for d in batch]
-    order = spectra[0][1]["order"]
-
-    def per_row(key, which):
-        return np.array([s[which][key] for s in spectra]).reshape(shape + list(np.shape(spectra[0][which][key])))
-
-    dims_order = tuple(batch) + ("order",)
-    ds = ds.assign_coords(order=("order", order, {"units": "1", "long_name": "polygon order"}))
-    ds["amplitude"] = (dims_order, per_row("amplitude", 1),
-                       {"units": "m", "long_name": "harmonic amplitude at the end"})
-    ds["amplitude_initial"] = (dims_order, per_row("amplitude", 0),
-                               {"units": "m", "long_name": "harmonic amplitude at the start"})
-    ds["roughness_level"] = (dims_order, per_row("roughness_level", 1),
-                             {"units": "dB", "long_name": "roughness level per order at the end, re 1 um rms"})
-    ds["dominant_order"] = (tuple(batch), per_row("dominant_order", 1),
-                            {"units": "1", "long_name": "order of the largest harmonic at the end"})
-    ds["maxima"] = (tuple(batch), per_row("maxima", 1),
-                    {"units": "1", "long_name": "radius maxima round the wheel at the end"})
-    pp0, pp1 = per_row("peak_to_peak", 0), per_row("peak_to_peak", 1)
-    ds["peak_to_peak_initial"] = (tuple(batch), pp0, {"units": "m", "long_name": "peak-to-peak deviation at the start"})
-    ds["peak_to_peak"] = (tuple(batch), pp1, {"units": "m", "long_name": "peak-to-peak deviation at the end"})
-    regimes = np.vectorize(roundness.regime, otypes=[object])(pp0, pp1)
-    ds["regime"] = (tuple(batch), regimes.astype(str), {"long_name": "wear regime (stable, smoothing, onset, polygonalising)"})
-    return ds

@@ -37,7 +37,6 @@ update) and ``resume`` (one such checkpoint of the same problem): the resumed ru
 result, bit for bit, as the uninterrupted one.
 """
 
-import time as _time
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
@@ -45,7 +44,7 @@ import numpy as np
 from railwear.errors import ScenarioError
 from railwear.geometry import contact_table, worn_profile
 from railwear.geometry.wear_surface import WearSurface, deposit_rectangles, ellipse_footprint
-from railwear.longterm.wheel_runs import fingerprint, fraction_done, rng_from_text, rng_state_text, stop_fraction
+from railwear.longterm.base import Body, stop_time, time_coordinates
 
 WHEELS = ("left", "right")
 
@@ -215,197 +214,35 @@ class WheelsetWear:
         return added, law, float(angle[-1])
 
 
-def _seconds_check(name, value, seed):
-    if not (np.isfinite(value) and value > 0):
-        raise ScenarioError(f"{name} must be finite and > 0 (s), got {value}")
-    if int(seed) != seed or seed < 0:
-        raise ScenarioError(f"seed must be a whole number >= 0, got {seed}")
-
-
-SAVED = ("time", "depth", "volume", "law", "cmin", "cmax", "amplitude", "rrd")
-
-
 @dataclass(frozen=True)
-class WheelsetCheckpoint:
-    """State of a wheelset run after ``steps`` steps (stepwise) or updates (direct), in plain
-    values and arrays for ``.npz``: normed time, the law's volume (m³), both wheels' depth (m,
-    wheel × angle × lateral), the Monte Carlo variance (m², stepwise; empty for direct), the
-    generator state as JSON text, the dynamics' state, start offset (m) and wheel angle (rad)
-    (direct; empty and 0 for stepwise), the cost so far and the outputs saved so far."""
-
-    fingerprint: str
-    steps: int
-    normed_time: float
-    law_volume: float
-    surface_depth: np.ndarray
-    variance: np.ndarray
-    rng_state: str
-    dynamics_state: np.ndarray
-    offset: float
-    phase: float
-    cost_seconds: float
-    cost_rhs: int
-    cost_tables: int
-    saved_time: np.ndarray
-    saved_depth: np.ndarray
-    saved_volume: np.ndarray
-    saved_law: np.ndarray
-    saved_cmin: np.ndarray
-    saved_cmax: np.ndarray
-    saved_amplitude: np.ndarray
-    saved_rrd: np.ndarray
-
-
-def _key(kind, problem, u0, until, depth_limit, *settings):
-    """Fingerprint of a wheelset run: the strategy, its ``settings``, the start, the end and the
-    problem (the model's fields but its table, which the run replaces; the profiles' points)."""
-    p = problem
-    model = {f.name: getattr(p.model, f.name) for f in fields(p.model) if f.name != "table"}
-    return fingerprint(kind, *settings, np.zeros(0) if u0 is None else np.asarray(u0, float), until, depth_limit,
-                       repr(model), p.wheel.y, p.wheel.z, p.rail.y, p.rail.z, (p.wheel.cant, p.rail.cant),
-                       p.beta, p.life_distance, np.asarray(p.shifts), np.asarray(p.lateral_edges), p.n_angle,
-                       p.transient, p.offsets, p.output_rate, p.footprint, p.radius)
-
-
-def _snapshot(key, j, T, law, surfaces, variance, rng, cost, saved, state=None, offset=0.0, phase=0.0):
-    """The :class:`WheelsetCheckpoint` of a run's variables."""
-    return WheelsetCheckpoint(
-        key, j, T, law, np.stack([s.depth for s in surfaces]), np.array(variance), rng_state_text(rng),
-        np.zeros(0) if state is None else np.array(state, float), float(offset), float(phase),
-        float(cost["seconds"]), int(cost["rhs"]), int(cost["tables"]),
-        *(np.array(saved[k]) for k in SAVED))
-
-
-def _restore(problem, resume, key):
-    """Generator, surfaces, table, cost, outputs, step, normed time and law's volume of ``resume``."""
-    if resume.fingerprint != key:
-        raise ScenarioError("resume: the checkpoint belongs to another wheelset problem or run")
-    surfaces = (problem.new_surface(), problem.new_surface())
-    for s, depth in zip(surfaces, resume.surface_depth):
-        s.depth[...] = depth
-    saved = _Saved()
-    for k in SAVED:
-        saved[k] = list(getattr(resume, f"saved_{k}"))
-    cost = {"seconds": float(resume.cost_seconds), "rhs": int(resume.cost_rhs), "tables": int(resume.cost_tables)}
-    return (rng_from_text(resume.rng_state), surfaces, problem.table(_fed(surfaces)), cost, saved,
-            int(resume.steps), float(resume.normed_time), float(resume.law_volume))
-
-
-def _begin(problem, u0, seed):
-    """Generator, the two surfaces worn by the lateral depth ``u0`` (m), the fed start depth, its
-    table, the cost counters and the outputs with the start saved."""
-    surfaces = (problem.new_surface(), problem.new_surface())
-    if u0 is not None:
-        u0 = np.asarray(u0, float)
-        if u0.shape != problem.lateral.shape or not np.all(np.isfinite(u0)):
-            raise ScenarioError(f"u0 must be {problem.lateral.size} finite lateral depths (m)")
-        for surface in surfaces:
-            surface.depth += u0[None, :]
-    start_depth = _fed(surfaces)
-    table = problem.table(start_depth)
-    saved = _Saved()
-    saved.add(0.0, surfaces, 0.0, (np.nan,) * 3, table)
-    return (np.random.default_rng(seed), surfaces, start_depth, table, {"seconds": 0.0, "rhs": 0, "tables": 1},
-            saved)
-
-
-def _result(problem, saved, surfaces, cost, attrs, extra=None):
-    """The Dataset of a wheelset run: ``worn_depth(distance, wheel, lateral)`` and the others."""
-    import xarray as xr
-
-    times = np.array(saved["time"])
-    lateral = problem.lateral
-    tables = saved["rrd"]
-    data = {
-        "worn_depth": (("distance", "wheel", "lateral"), np.array(saved["depth"]),
-                       {"units": "m", "long_name": "depth removed, mean round the wheel"}),
-        "surface_depth": (("wheel", "angle", "lateral"), np.stack([s.depth for s in surfaces]),
-                          {"units": "m", "long_name": "depth removed at the end over angle and lateral position"}),
-        "removed_volume": ("distance", np.array(saved["volume"]),
-                           {"units": "m3", "long_name": "volume removed from both wheels"}),
-        "law_volume": ("distance", np.array(saved["law"]),
-                       {"units": "m3", "long_name": "volume of the wear law, beta times the frictional energy"}),
-        "contact_min": ("distance", np.array(saved["cmin"]),
-                        {"units": "m", "long_name": "smallest contact lateral position seen in the step"}),
-        "contact_max": ("distance", np.array(saved["cmax"]),
-                        {"units": "m", "long_name": "largest contact lateral position seen in the step"}),
-        "lateral_amplitude": ("distance", np.array(saved["amplitude"]),
-                              {"units": "m", "long_name": "largest lateral displacement after the transient in the step"}),
-        "rolling_radius_difference": (("distance", "shift"), np.array(tables),
-                                      {"units": "m", "long_name": "rolling radius difference right - left of the table"}),
-        "cost_seconds": ((), float(cost["seconds"]), {"units": "s", "long_name": "seconds of dynamics simulated"}),
-        "cost_rhs_evaluations": ((), int(cost["rhs"]), {"units": "1", "long_name": "right-hand sides evaluated"}),
-        "cost_tables": ((), int(cost["tables"]), {"units": "1", "long_name": "contact tables computed"}),
-    }
-    data.update(extra or {})
-    coords = {
-        "distance": ("distance", times * problem.life_distance, {"units": "m", "long_name": "distance run"}),
-        "time": ("distance", times, {"units": "1", "long_name": "normed life time"}),
-        "wheel": ("wheel", list(WHEELS), {"long_name": "wheel of the wheelset"}),
-        "lateral": ("lateral", lateral, {"units": "m", "long_name": "lateral position on the wheel profile"}),
-        "angle": ("angle", surfaces[0].angle, {"units": "rad", "long_name": "angle round the wheel"}),
-        "shift": ("shift", np.asarray(problem.shifts), {"units": "m", "long_name": "lateral shift of the wheelset"}),
-    }
-    attrs = dict(attrs, speed=float(problem.model.speed), beta=problem.beta, life_distance=problem.life_distance)
-    return xr.Dataset(data, coords=coords, attrs=attrs)
-
-
-class _Saved(dict):
-    """Outputs gathered step by step."""
-
-    def __init__(self):
-        super().__init__(time=[], depth=[], volume=[], law=[], cmin=[], cmax=[], amplitude=[], rrd=[])
-
-    def add(self, T, surfaces, law, seen, table):
-        """Outputs after a step: ``seen`` the contact range and the largest |y| (m) of its runs."""
-        cmin, cmax, amplitude = seen
-        self["time"].append(T)
-        self["depth"].append([s.depth.mean(0) for s in surfaces])
-        self["volume"].append(sum(s.removed_volume() for s in surfaces))
-        self["law"].append(law)
-        self["cmin"].append(cmin)
-        self["cmax"].append(cmax)
-        self["amplitude"].append(amplitude)
-        self["rrd"].append(table.rolling_radius_difference.values.copy())
-
-
-def _seen(ds):
-    """Smallest and largest contact lateral position and largest |y| (m) of a run."""
-    position = ds.contact_lateral_position.values
-    return float(position.min()), float(position.max()), float(np.abs(ds.lateral_displacement.values).max())
-
-
-def _checked(until, depth_limit):
-    if not (np.isfinite(until) and until > 0):
-        raise ScenarioError(f"until must be finite and > 0 (normed time), got {until}")
-    if depth_limit is not None and not depth_limit > 0:
-        raise ScenarioError(f"depth_limit must be > 0 (m), got {depth_limit}")
-
-
-def _fed(surfaces):
-    """Lateral depth (m) the profile is worn by: round the wheel and over both wheels."""
-    return np.mean([s.depth.mean(0) for s in surfaces], axis=0)
-
-
-@dataclass(frozen=True)
-class WheelsetStepwise:
-    """Strategy 3 on the wheelset: frozen-profile statistics over ``samples`` random starts of
-    ``seconds`` (s) each after the transient, extrapolated over steps of at most ``step_limit``
-    (m) change of the fed lateral profile; ``seed`` seeds the run's generator."""
+class Wheelset(Body):
+    """The wheelset of ``problem`` as a long-term body. Frozen geometry: ``samples`` runs from
+    random starts, each ``seconds`` (s) after the transient; coupled: the profile and the table
+    follow the surface every ``update_seconds`` (s) of simulated time. The wear variable ``u`` is
+    the removed depth (m) over (wheel, angle, lateral); the depth limit and the step limit look at
+    the fed lateral profile (round the wheel and over both wheels)."""
 
     problem: WheelsetWear
-    step_limit: float
     seconds: float = 2.0
     samples: int = 4
-    seed: int = 0
-    max_steps: int = 10_000
+    update_seconds: float = 0.5
+    _table: dict = field(default_factory=dict, compare=False, repr=False)
+
+    name = "wheelset"
+    label = "wheelset"
 
     def __post_init__(self):
-        if not (np.isfinite(self.step_limit) and self.step_limit > 0):
-            raise ScenarioError(f"step_limit must be > 0 (m), got {self.step_limit}")
-        _seconds_check("seconds", self.seconds, self.seed)
+        for name in ("seconds", "update_seconds"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise ScenarioError(f"{name} must be finite and > 0 (s), got {value}")
         if int(self.samples) != self.samples or self.samples < 2:
             raise ScenarioError(f"samples must be a whole number >= 2 (for a variance), got {self.samples}")
+
+    @property
+    def table(self):
+        """The contact table of the current fed profile."""
+        return self._table["table"]
 
     def statistics(self, table, rng, cost=None):
         """Depth rate (m per unit normed time) per draw over (wheel, angle, lateral), the law's
@@ -426,108 +263,131 @@ class WheelsetStepwise:
             seen = (min(seen[0], lo), max(seen[1], hi), max(seen[2], amplitude))
         return np.array(rates), np.array(law), seen, cost
 
-    def run(self, u0=None, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
-        """Worn lateral profile over normed time from the lateral depth ``u0`` (m removed, on the
-        lateral cells; default unworn) until ``until`` or ``depth_limit`` (m) at the most worn
-        spot of the fed profile. ``checkpoint(WheelsetCheckpoint)`` is called after every step;
-        ``resume`` continues from one to the same result, bit for bit."""
-        _checked(until, depth_limit)
+    # the body protocol
+    def start(self, u0):
         p = self.problem
-        started = _time.perf_counter()
-        key = _key("stepwise", p, u0, until, depth_limit, self.step_limit, self.seconds, self.samples, self.seed)
-        rng, surfaces, start_depth, table, cost, saved = _begin(p, u0, self.seed)
-        T, law, j = 0.0, 0.0, 0
-        variance = np.zeros((2, p.lateral.size))
-        if resume is not None:
-            rng, surfaces, table, cost, saved, j, T, law = _restore(p, resume, key)
-            variance = np.array(resume.variance, float)
-        while T < until and (depth_limit is None or np.max(_fed(surfaces) - start_depth) < depth_limit * (1 - 1e-12)):
-            if j >= self.max_steps:
-                raise ScenarioError(f"step_limit: {self.max_steps} steps did not reach the end; raise step_limit")
-            rates, laws, seen, _ = self.statistics(table, rng, cost)
-            rate = rates.mean(0)
-            lateral_rate = rate.mean(1)  # (wheel, lateral)
-            top = np.max(lateral_rate.mean(0))
-            dT = min(self.step_limit / top if top > 0 else np.inf, until - T)
-            frac = stop_fraction(_fed(surfaces) - start_depth, lateral_rate.mean(0) * dT, depth_limit)
-            at_end = frac == 1.0 and dT == until - T
-            dT *= frac
-            for s, r in zip(surfaces, rate):
-                s.depth += r * dT
-            variance += (rates.mean(2).std(0, ddof=1) / np.sqrt(self.samples) * dT) ** 2
-            law += laws.mean() * dT
-            T = until if at_end else T + dT
-            j += 1
-            table = p.table(_fed(surfaces))
+        depth = np.zeros((2, p.n_angle, p.lateral.size))
+        if u0 is not None:
+            u0 = np.asarray(u0, float)
+            if u0.shape != p.lateral.shape or not np.all(np.isfinite(u0)):
+                raise ScenarioError(f"u0 must be {p.lateral.size} finite lateral depths (m)")
+            depth += u0[None, None, :]
+        return depth
+
+    @staticmethod
+    def fed(depth):
+        """Lateral depth (m) the profile is worn by: round the wheel and over both wheels."""
+        return depth.mean(1).mean(0)
+
+    def removed(self, u, u_start):
+        return self.fed(u) - self.fed(u_start)
+
+    def removal(self, increment):
+        return self.fed(increment)
+
+    def apply(self, u, increment):
+        return u + increment
+
+    def limited(self, rate, on="u"):
+        fed = self.fed(rate)
+        return fed if on == "u" else fed - fed.mean()
+
+    def update(self, u, cost):
+        self._table["table"] = self.problem.table(self.fed(u))
+        if cost is not None:
             cost["tables"] += 1
-            saved.add(T, surfaces, law, seen, table)
-            if progress is not None:
-                progress(fraction_done(T, until, _fed(surfaces) - start_depth, depth_limit))
-            if checkpoint is not None:
-                checkpoint(_snapshot(key, j, T, law, surfaces, variance, rng, cost, saved))
-        error = {"worn_depth_final_standard_error": (("wheel", "lateral"), np.sqrt(variance),
-                                                     {"units": "m", "long_name": "Monte Carlo standard error of the final worn depth"})}
-        attrs = {"strategy": "wheelset stepwise frozen geometry", "steps": j, "step_limit_m": self.step_limit,
-                 "samples": self.samples, "seconds_per_sample": self.seconds,
-                 "wall_seconds": _time.perf_counter() - started}
-        return _result(p, saved, surfaces, cost, attrs, error)
 
+    def error_shape(self, u):
+        return (2, u.shape[2])
 
-@dataclass(frozen=True)
-class WheelsetDirect:
-    """Strategy 1 on the wheelset: one run with ``acceleration`` ``A >= 1`` times the wear
-    coefficient; the profile and the table follow the surface every ``update_seconds`` (s) of
-    simulated time. Each simulated second stands for ``A`` seconds of service."""
+    def new_cost(self):
+        return {"seconds": 0.0, "rhs": 0, "tables": 0}
 
-    problem: WheelsetWear
-    acceleration: float
-    update_seconds: float = 0.5
-    seed: int = 0
-    max_updates: int = 100_000
+    def rates(self, u, rng, cost):
+        rates, laws, seen, _ = self.statistics(self.table, rng, cost)
+        error = rates.mean(2).std(0, ddof=1) / np.sqrt(self.samples)
+        return rates.mean(0), error, laws.mean(), seen
 
-    def __post_init__(self):
-        if not (np.isfinite(self.acceleration) and self.acceleration >= 1):
-            raise ScenarioError(f"acceleration factor must be >= 1, got {self.acceleration}")
-        _seconds_check("update_seconds", self.update_seconds, self.seed)
+    def couple(self, u, rng, acceleration, cost):
+        offset, phase = self.problem.start(rng)
+        state = self.problem.settle(self.table, offset, cost)
+        return {"state": np.zeros(0) if state is None else state, "offset": offset, "phase": phase}
 
-    def run(self, u0=None, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
-        """As :meth:`WheelsetStepwise.run`; checkpoints after every update."""
-        _checked(until, depth_limit)
+    def segment(self, u, carry, acceleration, remaining, cost):
         p = self.problem
-        started = _time.perf_counter()
-        key = _key("direct", p, u0, until, depth_limit, self.acceleration, self.update_seconds, self.seed)
-        rng, surfaces, start_depth, table, cost, saved = _begin(p, u0, self.seed)
-        if resume is None:
-            offset, phase = p.start(rng)
-            state = p.settle(table, offset, cost)
-            T, law, j = 0.0, 0.0, 0
-        else:
-            rng, surfaces, table, cost, saved, j, T, law = _restore(p, resume, key)
-            offset, phase = float(resume.offset), float(resume.phase)
-            state = np.array(resume.dynamics_state, float) if np.size(resume.dynamics_state) else None
-        per_second = self.acceleration * p.model.speed / p.life_distance  # normed time per simulated second
-        while T < until and (depth_limit is None or np.max(_fed(surfaces) - start_depth) < depth_limit * (1 - 1e-12)):
-            if j >= self.max_updates:
-                raise ScenarioError(f"direct: {self.max_updates} updates did not reach the end; raise the acceleration factor")
-            last = (until - T) / per_second <= self.update_seconds
-            seconds = (until - T) / per_second if last else self.update_seconds
-            ds, state = p.run(table, seconds, state=state, offset=offset, cost=cost)
-            segment = (p.new_surface(), p.new_surface())
-            _, volume, phase = p.deposit(segment, ds, table, phase, self.acceleration)
-            frac = stop_fraction(_fed(surfaces) - start_depth, _fed(segment), depth_limit)
-            for s, new in zip(surfaces, segment):
-                s.depth += frac * new.depth
-            law += frac * volume
-            T = until if (frac == 1.0 and last) else T + frac * seconds * per_second
-            j += 1
-            table = p.table(_fed(surfaces))
-            cost["tables"] += 1
-            saved.add(T, surfaces, law, _seen(ds), table)
-            if progress is not None:
-                progress(fraction_done(T, until, _fed(surfaces) - start_depth, depth_limit))
-            if checkpoint is not None:
-                checkpoint(_snapshot(key, j, T, law, surfaces, np.zeros(0), rng, cost, saved, state, offset, phase))
-        attrs = {"strategy": "wheelset direct coupled integration", "updates": j,
-                 "acceleration": self.acceleration, "update_seconds": self.update_seconds,
-                 "wall_seconds": _time.perf_counter() - started}
-        return _result(p, saved, surfaces, cost, attrs)
+        per_second = acceleration * p.model.speed / p.life_distance  # normed time per simulated second
+        last = remaining / per_second <= self.update_seconds
+        seconds = remaining / per_second if last else self.update_seconds
+        state = carry["state"] if np.size(carry["state"]) else None
+        ds, state = p.run(self.table, seconds, state=state, offset=carry["offset"], cost=cost)
+        segment = (p.new_surface(), p.new_surface())
+        _, volume, phase = p.deposit(segment, ds, self.table, carry["phase"], acceleration)
+        carry = {"state": state, "offset": carry["offset"], "phase": phase}
+        return np.stack([s.depth for s in segment]), seconds * per_second, last, volume, _seen(ds), carry
+
+    def record(self, u, seen, law_volume):
+        p = self.problem
+        seen = (np.nan,) * 3 if seen is None else seen
+        cell = p.new_surface().cell_area
+        return {"u": -u, "depth": u.mean(1), "volume": sum(float(w.sum() * cell) for w in u), "law": law_volume,
+                "cmin": seen[0], "cmax": seen[1], "amplitude": seen[2],
+                "rrd": self.table.rolling_radius_difference.values.copy()}
+
+    def result(self, records, times, cost, error, attrs):
+        import xarray as xr
+
+        p = self.problem
+        depth = np.array(records["depth"])
+        fed = depth.mean(1)
+        per_time = {
+            "worn_depth": (("wheel", "lateral"), depth, "m", "depth removed, mean round the wheel"),
+            "removed_volume": ((), records["volume"], "m3", "volume removed from both wheels"),
+            "law_volume": ((), records["law"], "m3", "volume of the wear law, beta times the frictional energy"),
+            "contact_min": ((), records["cmin"], "m", "smallest contact lateral position seen in the step"),
+            "contact_max": ((), records["cmax"], "m", "largest contact lateral position seen in the step"),
+            "lateral_amplitude": ((), records["amplitude"], "m",
+                                  "largest lateral displacement after the transient in the step"),
+            "rolling_radius_difference": (("shift",), records["rrd"], "m",
+                                          "rolling radius difference right - left of the table"),
+        }
+        data = {k: (("time",) + dims, np.array(v), {"units": unit, "long_name": name})
+                for k, (dims, v, unit, name) in per_time.items()}
+        data.update({
+            "u": (("time", "wheel", "angle", "lateral"), np.array(records["u"]),
+                  {"units": "m", "long_name": "radius deviation (minus the depth removed)"}),
+            "removed_depth": ("time", (fed - fed[0]).max(1),
+                              {"units": "m", "long_name": "largest depth lost by the fed profile since the start"}),
+            "surface_depth": (("wheel", "angle", "lateral"), -np.array(records["u"][-1]),
+                              {"units": "m", "long_name": "depth removed at the end over angle and lateral position"}),
+            "stop_time": stop_time(times),
+            "cost_seconds": ((), float(cost["seconds"]), {"units": "s", "long_name": "seconds of dynamics simulated"}),
+            "cost_rhs_evaluations": ((), int(cost["rhs"]), {"units": "1", "long_name": "right-hand sides evaluated"}),
+            "cost_tables": ((), int(cost["tables"]), {"units": "1", "long_name": "contact tables computed"}),
+        })
+        if error is not None:
+            data["worn_depth_final_standard_error"] = (
+                ("wheel", "lateral"), np.asarray(error[-1]),
+                {"units": "m", "long_name": "Monte Carlo standard error of the final worn depth"})
+        coords = time_coordinates(times, p.life_distance, p.model.speed)
+        coords.update({
+            "wheel": ("wheel", list(WHEELS), {"long_name": "wheel of the wheelset"}),
+            "lateral": ("lateral", p.lateral, {"units": "m", "long_name": "lateral position on the wheel profile"}),
+            "angle": ("angle", p.new_surface().angle, {"units": "rad", "long_name": "angle round the wheel"}),
+            "shift": ("shift", np.asarray(p.shifts), {"units": "m", "long_name": "lateral shift of the wheelset"}),
+        })
+        attrs = dict(attrs, beta=p.beta, life_distance=p.life_distance, samples=self.samples,
+                     seconds_per_sample=self.seconds, update_seconds=self.update_seconds)
+        return xr.Dataset(data, coords=coords, attrs=attrs)
+
+    def fingerprint_parts(self):
+        p = self.problem
+        model = {f.name: getattr(p.model, f.name) for f in fields(p.model) if f.name != "table"}
+        return (self.seconds, self.samples, self.update_seconds, repr(model), p.wheel.y, p.wheel.z, p.rail.y,
+                p.rail.z, (p.wheel.cant, p.rail.cant), p.beta, p.life_distance, np.asarray(p.shifts),
+                np.asarray(p.lateral_edges), p.n_angle, p.transient, p.offsets, p.output_rate, p.footprint, p.radius)
+
+
+def _seen(ds):
+    """Smallest and largest contact lateral position and largest |y| (m) of a run."""
+    position = ds.contact_lateral_position.values
+    return float(position.min()), float(position.max()), float(np.abs(ds.lateral_displacement.values).max())

@@ -8,6 +8,7 @@ from railwear.geometry import roundness
 from railwear.measured import read_measured
 from railwear.pde import Cubic, DiskContact, Table
 from railwear.scenario.schema import Scenario
+from railwear.units import GPA, KM, KN, MM, UG, UM, kmh_to_m_s, m_s_to_kmh
 
 def wear_rate(scenario: Scenario):
     """The ``h`` of the scenario, in SI units (rate in m per unit normed time)."""
@@ -15,19 +16,19 @@ def wear_rate(scenario: Scenario):
     if w.form == "cubic":
         return Cubic(w.c0, w.c1, w.c3)
     if w.form == "table":
-        speed = None if w.table_speed_kmh is None else np.array(w.table_speed_kmh) / 3.6
+        speed = None if w.table_speed_kmh is None else kmh_to_m_s(np.array(w.table_speed_kmh))
         return Table(np.array(w.curvature_m), np.array(w.rate_m), speed)
     wheel, contact, wear = scenario.wheel, scenario.contact, scenario.wear
     return DiskContact(
         wheel_radius=wheel.radius_m, unsprung_mass=wheel.unsprung_mass_kg,
-        static_load=wheel.static_load_kN * 1e3,
+        static_load=wheel.static_load_kN * KN,
         traction_coefficient=contact.traction_coefficient,
         friction_coefficient=contact.friction_coefficient,
-        youngs_modulus=contact.youngs_modulus_GPa * 1e9, poisson=contact.poisson,
+        youngs_modulus=contact.youngs_modulus_GPa * GPA, poisson=contact.poisson,
         rail_head_radius=contact.rail_head_radius_m, load_scatter=contact.load_scatter,
-        specific_wear=wear.specific_wear_ug_per_J * 1e-9, density=wear.density_kg_m3,
-        life_distance=scenario.operation.life_distance_km * 1e3,
-        wear_band_width=None if wear.band_width_mm is None else wear.band_width_mm * 1e-3,
+        specific_wear=wear.specific_wear_ug_per_J * UG, density=wear.density_kg_m3,
+        life_distance=life_distance(scenario),
+        wear_band_width=None if wear.band_width_mm is None else wear.band_width_mm * MM,
     )
 
 
@@ -35,7 +36,7 @@ def odd_terms(scenario: Scenario):
     """Drift and dispersion of ``h`` (rad and rad³ per unit normed time) at the operation speeds,
     linear in the speed between the table's speeds."""
     w, speeds = scenario.wear_rate, np.asarray(scenario.operation.speeds, float)
-    return tuple(np.interp(speeds, np.array(w.table_speed_kmh) / 3.6, value) if isinstance(value, list) else value
+    return tuple(np.interp(speeds, kmh_to_m_s(np.array(w.table_speed_kmh)), value) if isinstance(value, list) else value
                  for value in (w.drift_rad, w.dispersion_rad3))
 
 
@@ -46,13 +47,19 @@ def initial_state(scenario: Scenario):
         return np.zeros(n)
     if init.kind == "random":
         rng = np.random.default_rng(init.seed)
-        return roundness.random_perturbation(n, init.rms_um * 1e-6, init.lowest_order,
+        return roundness.random_perturbation(n, init.rms_um * UM, init.lowest_order,
                                              init.highest_order, rng)
     if init.kind == "harmonics":
         phases = None if init.phases_deg is None else np.deg2rad(init.phases_deg)
-        return roundness.harmonics(n, init.orders, np.array(init.amplitudes_um) * 1e-6, phases)
+        return roundness.harmonics(n, init.orders, np.array(init.amplitudes_um) * UM, phases)
     angle, deviation = read_measured(init.file)
     return roundness.resample_measured(angle, deviation, n)
+
+
+def initial_wear(scenario: Scenario):
+    """What the strategy starts from: ``u0`` (m) for the disk wheel, ``None`` (the new profile)
+    for the wheelset."""
+    return None if scenario.strategy.body == "wheelset" else initial_state(scenario)
 
 
 def patch(scenario: Scenario):
@@ -60,8 +67,8 @@ def patch(scenario: Scenario):
     from railwear.contact import hertz_contact
 
     w, c = scenario.wheel, scenario.contact
-    return hertz_contact(w.static_load_kN * 1e3, 1 / (2 * w.radius_m), 1 / (2 * c.rail_head_radius_m),
-                         c.youngs_modulus_GPa * 1e9, c.poisson)
+    return hertz_contact(w.static_load_kN * KN, 1 / (2 * w.radius_m), 1 / (2 * c.rail_head_radius_m),
+                         c.youngs_modulus_GPa * GPA, c.poisson)
 
 
 def disk_wheel_model(scenario: Scenario, speed):
@@ -69,9 +76,9 @@ def disk_wheel_model(scenario: Scenario, speed):
     from railwear.dynamics import DiskWheelModel, contact_constants
 
     w, c, d = scenario.wheel, scenario.contact, scenario.disk_wheel
-    load = w.static_load_kN * 1e3
+    load = w.static_load_kN * KN
     constants = contact_constants(load, 1 / (2 * w.radius_m), 1 / (2 * c.rail_head_radius_m),
-                                  c.youngs_modulus_GPa * 1e9, c.poisson)
+                                  c.youngs_modulus_GPa * GPA, c.poisson)
     return DiskWheelModel(
         speed=float(speed), radius=w.radius_m, wheel_mass=w.unsprung_mass_kg,
         wheel_inertia=d.wheel_inertia_kg_m2, static_load=load,
@@ -94,7 +101,8 @@ def strategy(scenario: Scenario):
     if scenario.strategy.kind == "phenomenological":
         return Phenomenological(wear_rate(scenario), np.asarray(speeds, float), solver.epsilon, solver.nu,
                                 *odd_terms(scenario),
-                                options={"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt})
+                                options={"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt},
+                                life_distance=life_distance(scenario))
     if scenario.strategy.kind == "stepwise":
         return stepwise(scenario)
     if isinstance(speeds, list):
@@ -103,59 +111,70 @@ def strategy(scenario: Scenario):
     if scenario.strategy.kind == "direct":
         return direct(scenario)
     fourier = Fourier.disk_wheel(disk_wheel_model(scenario, speeds), wear_law(scenario), band_width(scenario))
-    return FourierStrategy(fourier, scenario.operation.life_distance_km * 1e3, solver.n_save)
+    return FourierStrategy(fourier, life_distance(scenario), solver.n_save)
 
 
 def wear_law(scenario: Scenario):
     """The energy wear law of ``[wear]``."""
     from railwear.wear import EnergyLaw
 
-    return EnergyLaw(scenario.wear.specific_wear_ug_per_J * 1e-9, scenario.wear.density_kg_m3)
+    return EnergyLaw(scenario.wear.specific_wear_ug_per_J * UG, scenario.wear.density_kg_m3)
 
 
 def band_width(scenario: Scenario):
     """Lateral width the tread wear spreads over (m): ``wear.band_width_mm``, else the Hertz ``2b``."""
     width = scenario.wear.band_width_mm
-    return width * 1e-3 if width else 2 * float(patch(scenario).b)
+    return width * MM if width else 2 * float(patch(scenario).b)
 
 
 def service_speeds(scenario: Scenario):
     """The speed distribution (m/s) of ``[service]``; without peaks there, the operation speed
     with the service scatter."""
-    from railwear.longterm.stepwise import ServiceSpeeds
+    from railwear.longterm.disk_wheel import ServiceSpeeds
 
     service, speeds = scenario.service, scenario.operation.speeds
     if service.speed_kmh is not None:
-        peaks = [v / 3.6 for v in service.speed_kmh]
+        peaks = kmh_to_m_s(list(service.speed_kmh))
     elif isinstance(speeds, list):
         raise ScenarioError("operation: the stepwise strategy takes one speed, or peaks in service.speed_kmh")
     else:
         peaks = [speeds]
     return ServiceSpeeds(tuple(peaks), None if service.speed_weights is None else tuple(service.speed_weights),
-                         service.speed_scatter_kmh / 3.6)
+                         kmh_to_m_s(service.speed_scatter_kmh))
+
+
+def life_distance(scenario: Scenario):
+    """Metres run in one unit of normed time."""
+    return scenario.operation.life_distance_km * KM
+
+
+def disk_wheel_body(scenario: Scenario, speed=None):
+    """The disk wheel of ``[disk_wheel]`` as a long-term body, its frozen-geometry draws from the
+    ``[service]`` speeds (``speed`` m/s: the model's speed, default the service mean)."""
+    from railwear.longterm.disk_wheel import DiskWheel
+
+    st, service = scenario.strategy, service_speeds(scenario)
+    return DiskWheel(disk_wheel_model(scenario, service.mean if speed is None else speed), wear_law(scenario).beta,
+                     band_width(scenario), life_distance(scenario), service, revolutions=st.revolutions,
+                     transient_revolutions=st.transient_revolutions, samples=st.samples,
+                     updates_per_revolution=st.updates_per_revolution)
 
 
 def stepwise(scenario: Scenario):
     """Strategy 3 on the disk wheel of ``[disk_wheel]`` over the ``[service]`` speeds."""
-    from railwear.longterm.stepwise import FrozenGeometry, Stepwise
+    from railwear.longterm.stepwise import Stepwise
 
-    st, service = scenario.strategy, service_speeds(scenario)
-    frozen = FrozenGeometry(disk_wheel_model(scenario, service.mean), wear_law(scenario).beta, band_width(scenario),
-                            scenario.operation.life_distance_km * 1e3, service, revolutions=st.revolutions,
-                            transient_revolutions=st.transient_revolutions, samples=st.samples)
-    return Stepwise(frozen, st.step_limit_um * 1e-6, seed=scenario.service.seed, limit_on=st.step_limit_on,
-                    scheme=st.scheme)
+    st = scenario.strategy
+    return Stepwise(disk_wheel_body(scenario), st.step_limit_um * UM, seed=scenario.service.seed,
+                    limit_on=st.step_limit_on, scheme=st.scheme)
 
 
 def direct(scenario: Scenario):
     """Strategy 1 on the disk wheel of ``[disk_wheel]`` at the operation speed."""
     from railwear.longterm.direct import Direct
 
-    st = scenario.strategy
-    return Direct(disk_wheel_model(scenario, scenario.operation.speeds), wear_law(scenario).beta, band_width(scenario),
-                  scenario.operation.life_distance_km * 1e3, st.acceleration_factor,
-                  updates_per_revolution=st.updates_per_revolution,
-                  transient_revolutions=st.transient_revolutions, n_save=scenario.solver.n_save)
+    return Direct(disk_wheel_body(scenario, scenario.operation.speeds), scenario.strategy.acceleration_factor,
+                  n_save=scenario.solver.n_save)
 
 
 def profile(scenario: Scenario, which):
@@ -183,31 +202,33 @@ def wheelset_wear(scenario: Scenario):
     if isinstance(speed, list):
         raise ScenarioError("operation: the wheelset wear strategies take one speed; sweep over speeds instead")
     n = max(int(round(ww.shift_max_mm / ww.shift_step_mm)), 1)
-    shifts = np.round(np.linspace(-ww.shift_max_mm, ww.shift_max_mm, 2 * n + 1) * 1e-3, 12)
+    shifts = np.round(np.linspace(-ww.shift_max_mm, ww.shift_max_mm, 2 * n + 1) * MM, 12)
     wheel, rail = profile(scenario, "wheel"), profile(scenario, "rail")
-    table = contact_table(wheel, rail, y=shifts, axle_load=2 * w.static_load_kN * 1e3, rolling_radius=w.radius_m,
-                          youngs_modulus=c.youngs_modulus_GPa * 1e9, poisson=c.poisson)
+    table = contact_table(wheel, rail, y=shifts, axle_load=2 * w.static_load_kN * KN, rolling_radius=w.radius_m,
+                          youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson)
     model = TableWheelsetModel(speed=float(speed), mass=ws.mass_kg, yaw_inertia=ws.yaw_inertia_kg_m2,
                                lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=ws.yaw_stiffness_N_m_rad,
                                table=table, friction_coefficient=c.friction_coefficient)
-    edges = np.round(np.linspace(ww.lateral_min_mm, ww.lateral_max_mm, ww.lateral_cells + 1) * 1e-3, 12)
-    return WheelsetWear(model, wheel, rail, wear_law(scenario).beta, scenario.operation.life_distance_km * 1e3,
+    edges = np.round(np.linspace(ww.lateral_min_mm, ww.lateral_max_mm, ww.lateral_cells + 1) * MM, 12)
+    return WheelsetWear(model, wheel, rail, wear_law(scenario).beta, life_distance(scenario),
                         shifts=tuple(shifts), lateral_edges=tuple(edges), n_angle=ww.angle_cells,
-                        transient=ww.transient_s, offsets=(ww.offset_min_mm * 1e-3, ww.offset_max_mm * 1e-3),
+                        transient=ww.transient_s, offsets=(ww.offset_min_mm * MM, ww.offset_max_mm * MM),
                         output_rate=ww.output_rate_Hz, footprint=ww.footprint)
 
 
 def wheelset_strategy(scenario: Scenario):
     """Strategy 3 (``kind = "stepwise"``) or 1 (``"direct"``) on the wheelset of ``[wheelset_wear]``,
     seeded by ``service.seed``; ``run(None, until, depth_limit, ...)`` starts from the new profile."""
-    from railwear.longterm.wheelset_wear import WheelsetDirect, WheelsetStepwise
+    from railwear.longterm.direct import Direct
+    from railwear.longterm.stepwise import Stepwise
+    from railwear.longterm.wheelset_wear import Wheelset
 
     st, ww, seed = scenario.strategy, scenario.wheelset_wear, scenario.service.seed
-    problem = wheelset_wear(scenario)
+    body = Wheelset(wheelset_wear(scenario), seconds=ww.seconds_per_sample_s, samples=st.samples,
+                    update_seconds=ww.update_interval_s)
     if st.kind == "stepwise":
-        return WheelsetStepwise(problem, st.step_limit_um * 1e-6, seconds=ww.seconds_per_sample_s,
-                                samples=st.samples, seed=seed)
-    return WheelsetDirect(problem, st.acceleration_factor, update_seconds=ww.update_interval_s, seed=seed)
+        return Stepwise(body, st.step_limit_um * UM, seed=seed, limit_on=st.step_limit_on, scheme=st.scheme)
+    return Direct(body, st.acceleration_factor, n_save=None, seed=seed)
 
 
 def fitted_h(scenario: Scenario, speeds=None, scales=(0.5, 1.0, 1.5, 2.0), degree=3, bins=16):
@@ -216,10 +237,10 @@ def fitted_h(scenario: Scenario, speeds=None, scales=(0.5, 1.0, 1.5, 2.0), degre
     scatter, over the initial wheel scaled by ``scales``; returns ``(statistics, fit)``."""
     from dataclasses import replace
 
+    from railwear.longterm.disk_wheel import ServiceSpeeds
     from railwear.longterm.fitting import fit_h, gather
-    from railwear.longterm.stepwise import ServiceSpeeds
 
-    frozen = stepwise(scenario).frozen
+    frozen = disk_wheel_body(scenario)
     speeds = np.atleast_1d(service_speeds(scenario).peaks if speeds is None else speeds).astype(float)
     scatter = frozen.service.scatter
     u0 = initial_state(scenario)
@@ -235,7 +256,7 @@ def with_fitted_h(scenario: Scenario, fit):
     rate = table.rate.tolist()
     wear_rate = scenario.wear_rate.model_copy(update={
         "form": "table", "curvature_m": table.curvature.tolist(), "rate_m": rate,
-        "table_speed_kmh": None if table.speed is None else (table.speed * 3.6).tolist(),
+        "table_speed_kmh": None if table.speed is None else m_s_to_kmh(table.speed).tolist(),
         "drift_rad": fit.drift.tolist() if table.speed is not None else float(fit.drift[0]),
         "dispersion_rad3": fit.dispersion.tolist() if table.speed is not None else float(fit.dispersion[0])})
     strategy = scenario.strategy.model_copy(update={"kind": "phenomenological"})

@@ -4,6 +4,8 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from railwear.units import kmh_to_m_s
+
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Finite = Annotated[float, Field(allow_inf_nan=False)]
@@ -54,7 +56,7 @@ class Operation(_Section):
         """Speed or speeds in m/s; a list makes a batch."""
         if self.speed_kmh is not None:
             v = self.speed_kmh
-            return [s / 3.6 for s in v] if isinstance(v, list) else v / 3.6
+            return kmh_to_m_s(v)
         return self.speed_m_s
 
 

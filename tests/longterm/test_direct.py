@@ -6,7 +6,8 @@ import pytest
 
 from railwear.errors import ScenarioError
 from railwear.longterm.direct import Direct
-from railwear.longterm.stepwise import FrozenGeometry, ServiceSpeeds, Stepwise
+from railwear.longterm.disk_wheel import DiskWheel, ServiceSpeeds
+from railwear.longterm.stepwise import Stepwise
 
 WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
 
@@ -18,7 +19,7 @@ def shape_error(u, ref):
 
 @pytest.fixture(scope="module")
 def runs(wheel_220, rough_u0):
-    return {a: Direct(wheel_220, **WEAR, acceleration=a).run(rough_u0, until=1.0, depth_limit=40e-6)
+    return {a: Direct(DiskWheel(wheel_220, **WEAR), acceleration=a).run(rough_u0, until=1.0, depth_limit=40e-6)
             for a in (2e4, 1e4, 5e3, 2.5e3)}
 
 
@@ -35,7 +36,7 @@ def test_converges_as_the_acceleration_factor_falls(runs):
 
 
 def test_agrees_with_the_stepwise_strategy(runs, wheel_220, rough_u0):
-    frozen = FrozenGeometry(wheel_220, **WEAR, service=ServiceSpeeds((wheel_220.speed,)), revolutions=4,
+    frozen = DiskWheel(wheel_220, **WEAR, service=ServiceSpeeds((wheel_220.speed,)), revolutions=4,
                             transient_revolutions=4, samples=2)
     step = Stepwise(frozen, 2e-6).run(rough_u0, until=1.0, depth_limit=40e-6)
     ref = runs[2.5e3]
@@ -45,15 +46,15 @@ def test_agrees_with_the_stepwise_strategy(runs, wheel_220, rough_u0):
 
 def test_finer_surface_updates_converge_too(wheel_220, rough_u0):
     """Four surface updates per revolution: also first order in A, towards the same limit."""
-    fine = {a: Direct(wheel_220, **WEAR, acceleration=a, updates_per_revolution=4).run(
+    fine = {a: Direct(DiskWheel(wheel_220, **WEAR, updates_per_revolution=4), acceleration=a).run(
         rough_u0, until=1.0, depth_limit=20e-6) for a in (1e4, 5e3)}
-    coarse = Direct(wheel_220, **WEAR, acceleration=2.5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
+    coarse = Direct(DiskWheel(wheel_220, **WEAR), acceleration=2.5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
     errors = [shape_error(fine[a].u.values[-1], coarse.u.values[-1]) for a in (1e4, 5e3)]
     assert errors[0] > 1.5 * errors[1]
 
 
 def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0, runs):
-    strategy = Direct(wheel_220, **WEAR, acceleration=2e4, n_save=11)
+    strategy = Direct(DiskWheel(wheel_220, **WEAR), acceleration=2e4, n_save=11)
     whole = strategy.run(rough_u0, until=1.0, depth_limit=40e-6)
     saved = []
 
@@ -75,28 +76,25 @@ def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0, runs):
 @pytest.mark.parametrize("factor", [0.5, 0.0, -3.0, float("nan")])
 def test_an_acceleration_factor_below_one_is_an_error(wheel_220, factor):
     with pytest.raises(ScenarioError, match="acceleration factor"):
-        Direct(wheel_220, **WEAR, acceleration=factor)
+        Direct(DiskWheel(wheel_220, **WEAR), acceleration=factor)
 
 
 def test_stops_at_the_normed_time(wheel_220, rough_u0):
-    ds = Direct(wheel_220, **WEAR, acceleration=2e4, n_save=5).run(rough_u0, until=0.01)
+    ds = Direct(DiskWheel(wheel_220, **WEAR), acceleration=2e4, n_save=5).run(rough_u0, until=0.01)
     assert float(ds.time[-1]) == 0.01
     assert ds.sizes["time"] == 5
 
 
 def test_checkpoint_survives_an_npz_file(wheel_220, rough_u0, tmp_path):
-    from dataclasses import asdict
+    from railwear.longterm.base import Checkpoint
 
-    from railwear.longterm.direct import DirectCheckpoint
-    from railwear.longterm.wheel_runs import checkpoint_from_fields
-
-    strategy = Direct(wheel_220, **WEAR, acceleration=2e4, n_save=6)
+    strategy = Direct(DiskWheel(wheel_220, **WEAR), acceleration=2e4, n_save=6)
     saved = []
     whole = strategy.run(rough_u0, until=1.0, depth_limit=20e-6, checkpoint=saved.append)
-    np.savez(tmp_path / "cp.npz", **asdict(saved[2]))
+    np.savez(tmp_path / "cp.npz", **saved[2].plain())
     with np.load(tmp_path / "cp.npz") as data:
-        back = checkpoint_from_fields({k: data[k] for k in data.files})
-    assert isinstance(back, DirectCheckpoint)
+        back = Checkpoint.from_plain({k: data[k] for k in data.files})
+    assert back.kind == "direct"
     resumed = strategy.run(rough_u0, until=1.0, depth_limit=20e-6, resume=back)
     np.testing.assert_array_equal(resumed.u.values, whole.u.values)
 
@@ -107,11 +105,11 @@ def test_the_fastsim_creep_law_is_carried_through_the_surface_updates(wheel_220,
     from dataclasses import replace
 
     wheel = replace(wheel_220, creep_law="fastsim")
-    direct = Direct(wheel, **WEAR, acceleration=5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
-    frozen = FrozenGeometry(wheel, **WEAR, service=ServiceSpeeds((wheel.speed,)), revolutions=4,
+    direct = Direct(DiskWheel(wheel, **WEAR), acceleration=5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
+    frozen = DiskWheel(wheel, **WEAR, service=ServiceSpeeds((wheel.speed,)), revolutions=4,
                             transient_revolutions=4, samples=2)
     step = Stepwise(frozen, 2e-6).run(rough_u0, until=1.0, depth_limit=20e-6)
     assert shape_error(step.u.values[-1], direct.u.values[-1]) < 3e-3
-    cubic = Direct(wheel_220, **WEAR, acceleration=5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
+    cubic = Direct(DiskWheel(wheel_220, **WEAR), acceleration=5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
     # the creep law matters: the life to the depth differs from the cubic law's
     assert abs(float(direct.stop_time) / float(cubic.stop_time) - 1) > 1e-3

@@ -7,7 +7,7 @@ import xarray as xr
 from railwear.errors import ScenarioError
 from railwear.geometry import roundness
 from railwear.longterm.fitting import curvature, fit_h, gather
-from railwear.longterm.stepwise import FrozenGeometry, ServiceSpeeds
+from railwear.longterm.disk_wheel import DiskWheel, ServiceSpeeds
 from railwear.pde import Table
 
 WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
@@ -56,7 +56,7 @@ def test_fitted_h_reproduces_the_disk_wheel_statistics_it_was_fitted_to(wheel_22
     v = wheel_220.speed
 
     def frozen(speed):
-        return FrozenGeometry(wheel_220, **WEAR, service=ServiceSpeeds((speed,)), revolutions=3,
+        return DiskWheel(wheel_220, **WEAR, service=ServiceSpeeds((speed,)), revolutions=3,
                               transient_revolutions=3, samples=2)
 
     stats = gather(frozen, [v], geometries, rng)
@@ -97,7 +97,7 @@ def test_fitted_odd_terms_are_the_fourier_phase_of_the_disk_wheel():
     model = build.disk_wheel_model(scenario, v)
     rng = np.random.default_rng(0)
     geometries = [roundness.random_perturbation(points, rms, 2, 12, rng) for rms in (5e-6, 10e-6)]
-    stats = gather(lambda s: FrozenGeometry(model, law.beta, band, life, ServiceSpeeds((s,)), revolutions=4,
+    stats = gather(lambda s: DiskWheel(model, law.beta, band, life, ServiceSpeeds((s,)), revolutions=4,
                                             transient_revolutions=4, samples=2), [v], geometries, rng)
     fit = fit_h(stats, degree=3, bins=16)
     power = sum(np.abs(np.fft.rfft(g))[1 : points // 2] ** 2 for g in geometries)

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from railwear.errors import ScenarioError
-from railwear.longterm.stepwise import FrozenGeometry, ServiceSpeeds, Stepwise
+from railwear.longterm.disk_wheel import DiskWheel, ServiceSpeeds
+from railwear.longterm.stepwise import Stepwise
 
 WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
 
@@ -12,7 +13,7 @@ WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
 def frozen(model, **kw):
     options = dict(revolutions=4, transient_revolutions=4, samples=2, service=ServiceSpeeds((model.speed,)))
     options.update(kw)
-    return FrozenGeometry(model, **WEAR, **options)
+    return DiskWheel(model, **WEAR, **options)
 
 
 def shape_error(u, ref):
@@ -62,7 +63,7 @@ def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0, scheme):
 
     def kill_after_two(cp):
         saved.append(cp)
-        if cp.intervals == 2:
+        if cp.steps == 2:
             raise Killed
 
     with pytest.raises(Killed):
@@ -73,7 +74,7 @@ def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0, scheme):
     np.testing.assert_array_equal(resumed.u_standard_error.values, whole.u_standard_error.values)
     assert int(resumed.cost_revolutions) == int(whole.cost_revolutions)
     other = Stepwise(frozen(wheel_220, service=service), 4e-6, seed=7)
-    with pytest.raises(ScenarioError, match="another problem"):
+    with pytest.raises(ScenarioError, match="another disk wheel problem"):
         other.run(rough_u0, until=1.0, depth_limit=30e-6, resume=saved[-1])
 
 
@@ -111,21 +112,20 @@ def test_round_wheel_wears_at_the_steady_frictional_power(wheel_220):
 
 def test_checkpoints_survive_an_npz_file(wheel_220, rough_u0, tmp_path):
     """Written as the result files write them (plain fields in an .npz), read back, resumed."""
-    from dataclasses import asdict
-
-    from railwear.longterm.wheel_runs import checkpoint_from_fields
+    from railwear.longterm.base import Checkpoint
 
     strategy = Stepwise(frozen(wheel_220), 8e-6, seed=5, scheme="adams-bashforth")
     whole = strategy.run(rough_u0, until=1.0, depth_limit=20e-6)
     saved = []
     strategy.run(rough_u0, until=1.0, depth_limit=20e-6, checkpoint=lambda cp: saved.append(cp))
-    np.savez(tmp_path / "cp.npz", **asdict(saved[1]))
+    np.savez(tmp_path / "cp.npz", **saved[1].plain())
     with np.load(tmp_path / "cp.npz") as data:
-        back = checkpoint_from_fields({k: data[k] for k in data.files})
-    assert isinstance(back, type(saved[1]))
+        back = Checkpoint.from_plain({k: data[k] for k in data.files})
+    assert back.kind == "stepwise" and back.fields.keys() == saved[1].fields.keys()
     resumed = strategy.run(rough_u0, until=1.0, depth_limit=20e-6, resume=back)
     np.testing.assert_array_equal(resumed.u.values, whole.u.values)
-    assert checkpoint_from_fields({"fingerprint": "x"}) is None
+    with pytest.raises(ScenarioError, match="not a railwear checkpoint"):
+        Checkpoint.from_plain({"fingerprint": "x"})
 
 
 def test_limiting_the_change_of_the_shape_converges_too(wheel_220, rough_u0):
@@ -144,7 +144,7 @@ def test_limiting_the_change_of_the_shape_converges_too(wheel_220, rough_u0):
 def test_wear_intensity_teeth_sum_to_the_cell_wear(wheel_220, rough_u0):
     """Paper Fig. 7: one tooth is one pass of the patch over a point; averaged over the points of
     a cell, the teeth give the depth per turn the frozen statistics give that cell."""
-    from railwear.longterm.stepwise import wear_intensity
+    from railwear.longterm.disk_wheel import wear_intensity
 
     turns, dx = 8, 2 * np.pi / rough_u0.size
     per_point = []

@@ -6,7 +6,7 @@ from typer.testing import CliRunner
 
 from railwear.cli import app
 from railwear.geometry.wear_surface import WearSurface
-from railwear.longterm.direct import surface_wear
+from railwear.longterm.disk_wheel import surface_wear
 
 
 @pytest.mark.parametrize("name", ["teeth", "wear-surface", "fitted-h"])

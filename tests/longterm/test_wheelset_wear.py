@@ -8,8 +8,9 @@ import pytest
 from railwear.dynamics import TableWheelsetModel
 from railwear.errors import ScenarioError
 from railwear.geometry import contact_table, load_profile, worn_profile
-from railwear.longterm.wheelset_wear import (WheelsetDirect, WheelsetStepwise, WheelsetWear, band_width,
-                                             sweep_deposit)
+from railwear.longterm.direct import Direct
+from railwear.longterm.stepwise import Stepwise
+from railwear.longterm.wheelset_wear import Wheelset, WheelsetWear, band_width, sweep_deposit
 from railwear.wear import EnergyLaw
 
 SUSPENSION = dict(mass=1022.0, yaw_inertia=678.0, lateral_stiffness=1.823e6, yaw_stiffness=2.0e6)
@@ -27,6 +28,14 @@ def make(profiles, speed, **options):
     wheel, rail, table = profiles
     model = TableWheelsetModel(speed=speed, **SUSPENSION, table=table, friction_coefficient=0.3)
     return WheelsetWear(model, wheel, rail, EnergyLaw().beta, 1e6, **{**SMALL, **options})
+
+
+def WheelsetStepwise(p, step_limit, seconds=2.0, samples=4, seed=0):
+    return Stepwise(Wheelset(p, seconds=seconds, samples=samples), step_limit, seed=seed)
+
+
+def WheelsetDirect(p, acceleration, update_seconds=0.5, seed=0):
+    return Direct(Wheelset(p, update_seconds=update_seconds), acceleration, n_save=None, seed=seed)
 
 
 def relative(ds, ref):
@@ -107,7 +116,7 @@ def test_band_is_the_footprint_below_and_the_hunting_range_above(profiles):
     bands = {}
     for speed in (30.0, 60.0):
         p = make(profiles, speed, transient=4.0)
-        rates, laws, (lo, hi, amplitude), _ = WheelsetStepwise(p, 1e-6, seconds=1.0, samples=2).statistics(
+        rates, laws, (lo, hi, amplitude), _ = Wheelset(p, seconds=1.0, samples=2).statistics(
             p.model.table, np.random.default_rng(1))
         bands[speed] = band_width(rates.mean((0, 1, 2)), p.lateral), hi - lo, amplitude
     b = float(profiles[2].b.sel(y=0.0, side="right"))
@@ -141,7 +150,7 @@ def test_volume_removed_equals_the_law_through_the_steps(profiles):
                WheelsetDirect(p, 2e4, update_seconds=0.25).run(until=0.2)):
         np.testing.assert_allclose(ds.removed_volume.values, ds.law_volume.values, rtol=1e-12)
         assert ds.removed_volume.values[-1] > 0
-        assert float(ds.distance[-1]) == pytest.approx(0.2e6)
+        assert float(ds.distance[-1]) == pytest.approx(0.2e3)  # km
 
 
 @pytest.mark.parametrize("make_strategy, field", [
@@ -220,7 +229,7 @@ def test_a_killed_run_resumes_bit_for_bit(profiles, make_strategy, k):
     p = make(profiles, 60.0)
     strategy = make_strategy(p)
     whole = strategy.run(until=0.06)
-    assert whole.sizes["distance"] > k + 2
+    assert whole.sizes["time"] > k + 2
     saved = []
     with pytest.raises(_Killed):
         strategy.run(until=0.06, checkpoint=_killed_after(k, saved))
@@ -237,18 +246,15 @@ def test_a_killed_run_resumes_bit_for_bit(profiles, make_strategy, k):
 @pytest.mark.parametrize("make_strategy, k", RESUMED)
 def test_checkpoints_survive_an_npz_file(profiles, make_strategy, k, tmp_path):
     """Written as the result files write them (plain fields in an .npz), told apart from the disk
-    wheel's checkpoints by their fields, read back and resumed to the same result."""
-    from dataclasses import asdict
-
-    from railwear.longterm.wheel_runs import checkpoint_from_fields
-    from railwear.longterm.wheelset_wear import WheelsetCheckpoint
+    wheel's checkpoints by their kind, read back and resumed to the same result."""
+    from railwear.longterm.base import Checkpoint
 
     p = make(profiles, 60.0)
     strategy = make_strategy(p)
     saved = []
     whole = strategy.run(until=0.06, checkpoint=saved.append)
-    np.savez(tmp_path / "cp.npz", **asdict(saved[k - 1]))
+    np.savez(tmp_path / "cp.npz", **saved[k - 1].plain())
     with np.load(tmp_path / "cp.npz", allow_pickle=False) as data:
-        back = checkpoint_from_fields({n: data[n] for n in data.files})
-    assert isinstance(back, WheelsetCheckpoint) and isinstance(back.fingerprint, str)
+        back = Checkpoint.from_plain({n: data[n] for n in data.files})
+    assert back.kind == strategy.name and isinstance(back.fingerprint, str)
     _assert_same(strategy.run(until=0.06, resume=back), whole)

@@ -54,10 +54,10 @@ def test_the_builtin_runs_through_the_cli(tmp_path):
     assert r.exit_code == 0, r.output
     ds = results.read_netcdf(tmp_path / "result.nc")
     assert ds.attrs["body"] == "wheelset" and ds.attrs["strategy"] == "stepwise"
-    assert ds.worn_depth.dims == ("distance", "wheel", "lateral")
+    assert ds.worn_depth.dims == ("time", "wheel", "lateral")
     assert ds.surface_depth.dims == ("wheel", "angle", "lateral")
-    assert float(ds.distance[-1]) == pytest.approx(500e3)
-    assert int(ds.cost_tables) == ds.sizes["distance"] and float(ds.cost_seconds) > 0
+    assert float(ds.distance[-1]) == pytest.approx(500.0)  # km
+    assert int(ds.cost_tables) == ds.sizes["time"] and float(ds.cost_seconds) > 0
     np.testing.assert_allclose(ds.removed_volume.values, ds.law_volume.values, rtol=1e-12)
     final = ds.worn_depth.values[-1]
     assert final.max() > 1e-6
@@ -87,7 +87,7 @@ def test_a_killed_cli_run_resumes_to_the_same_file(tmp_path, monkeypatch, direct
     r = runner.invoke(app, ["resume", str(killed), "--no-figures"])
     assert r.exit_code == 0, r.output
     a, b = results.read_netcdf(whole / "result.nc"), results.read_netcdf(killed / "result.nc")
-    assert a.sizes["distance"] > kill_after + 1
+    assert a.sizes["time"] > kill_after + 1
     assert set(a.data_vars) == set(b.data_vars)
     for name in a.data_vars:
         np.testing.assert_array_equal(b[name].values, a[name].values, err_msg=name)

@@ -1,0 +1,294 @@
+"""The long-term contract (layer 3): strategies, bodies, checkpoints and the one result shape.
+
+**Strategy.** A subclass of :class:`Strategy` registered by ``name``; ``run(u0, until,
+depth_limit, progress, checkpoint, resume)`` advances the wear state from ``u0`` (m; ``None``: the
+body's new state) to normed time ``until`` or until the most worn spot has lost ``depth_limit``
+(m) and returns a result (below). Strategies that take steps hand them to
+:func:`railwear.longterm.driver.drive`: each step (``advance``) turns the state at ``T`` into the
+state at ``T + ΔT`` and says what it cost; the driver owns the loop, the depth limit, the saves,
+progress, checkpoints and the seeded generator.
+
+**Body.** What wears and how its dynamics are run (the disk wheel, the wheelset): see
+:class:`Body`. A body knows its wear variable ``u``, its frozen-geometry wear rates with their
+standard errors, its coupled advance, its removed depth, its extra result variables and figures.
+
+**Checkpoint.** :class:`Checkpoint`: the strategy's ``kind``, a format ``version``, the problem's
+fingerprint and plain fields (numbers, text, arrays). A resume needs the fields the strategy
+wrote; anything else is refused in one line.
+
+**Result.** An ``xarray.Dataset`` with ``u`` (m) over (``time``[, batch], ``angle``[,
+``lateral``]); coordinates ``time`` (normed life), ``distance`` (km) and ``speed`` (m s-1);
+``removed_depth`` (m, most worn spot, over ``time``[, batch]), ``stop_time`` and ``cost_*``;
+attributes ``strategy`` (registry name), ``body`` and ``scenario_hash`` (empty outside a
+scenario). A body adds variables and never renames these. Cost is counted in what the
+strategy spends: wheel revolutions or seconds simulated and right-hand sides evaluated.
+"""
+
+import hashlib
+import json
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from railwear.errors import ScenarioError
+from railwear.units import KM
+
+MANDATORY = ("u", "removed_depth", "stop_time")
+COORDINATES = ("time", "distance", "speed")
+ATTRIBUTES = ("strategy", "body", "scenario_hash")
+
+
+class Strategy(ABC):
+    """A long-term strategy; subclasses register with ``class X(Strategy, name="x")``."""
+
+    registry: dict = {}
+    name: str = ""
+
+    def __init_subclass__(cls, name=None, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if name is not None:
+            cls.name = name
+            Strategy.registry[name] = cls
+
+    @abstractmethod
+    def run(self, u0=None, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
+        """The result Dataset of the run (the contract in this module's docstring)."""
+
+
+def strategy_class(name):
+    """The registered strategy class of ``name``."""
+    try:
+        return Strategy.registry[name]
+    except KeyError:
+        raise ScenarioError(f"strategy: unknown kind {name!r}; known: {', '.join(sorted(Strategy.registry))}") from None
+
+
+class Body(ABC):
+    """What a stepped strategy wears. ``u`` is the body's wear variable (an array; for the disk
+    wheel the radius deviation, m, for the wheelset the removed depth of both wheels, m)."""
+
+    name: str = ""
+    label: str = ""
+
+    @abstractmethod
+    def start(self, u0):
+        """The wear variable at the start from the user's ``u0`` (``None``: new)."""
+
+    @abstractmethod
+    def removed(self, u, u_start):
+        """Depth (m) lost since the start, on the cells the depth limit looks at."""
+
+    @abstractmethod
+    def removal(self, increment):
+        """What a wear ``increment`` adds to :meth:`removed`."""
+
+    @abstractmethod
+    def apply(self, u, increment):
+        """``u`` after the wear ``increment`` (same layout as a rate times a step)."""
+
+    def update(self, u, cost):
+        """Called after every change of ``u``: rebuild what the dynamics see of it."""
+
+    @abstractmethod
+    def rates(self, u, rng, cost):
+        """Frozen-geometry wear: ``(rate, error, law_rate, seen)`` with ``rate`` per unit normed
+        time in the layout of an increment, ``error`` the Monte Carlo standard error of what the
+        variance is kept on, ``law_rate`` (m³ per unit normed time) the wear law's volume and
+        ``seen`` the body's record of the runs; the cost is added to ``cost``."""
+
+    def limited(self, rate, on="u"):
+        """The part of ``rate`` whose largest magnitude the step limit bounds (``"u"`` or
+        ``"shape"``: without the uniform part)."""
+        return rate if on == "u" else rate - rate.mean()
+
+    @abstractmethod
+    def couple(self, u, rng, acceleration, cost):
+        """The carry (dict of plain values and arrays) of a coupled run started over ``u``."""
+
+    @abstractmethod
+    def segment(self, u, carry, acceleration, remaining, cost):
+        """One coupled segment: ``(increment, dT, final, law_volume, seen, carry)``; ``final``
+        when ``dT`` is exactly the ``remaining`` normed time."""
+
+    @abstractmethod
+    def record(self, u, seen):
+        """Plain values saved at an output (a dict of arrays and numbers)."""
+
+    @abstractmethod
+    def result(self, records, times, cost, error, attrs):
+        """The result Dataset from the saved ``records`` (dict of lists), normed ``times``, the
+        ``cost`` dict and the saved standard errors (``None`` without Monte Carlo)."""
+
+    @abstractmethod
+    def fingerprint_parts(self):
+        """What identifies the body's problem, for checkpoints."""
+
+
+@dataclass
+class WearState:
+    """Where a stepped run is: normed ``time``, ``steps`` taken, the body's wear variable ``u``,
+    the Monte Carlo ``variance``, the wear law's volume (m³), the previous rate, error and step
+    (Adams-Bashforth), the coupled carry, the next save mark, cost, outputs and generator."""
+
+    time: float
+    steps: int
+    u: np.ndarray
+    variance: np.ndarray
+    law_volume: float
+    previous: tuple
+    carry: dict
+    mark: int
+    cost: dict
+    saved: dict
+    rng: np.random.Generator = field(repr=False, default=None)
+
+
+CHECKPOINT_VERSION = 2
+
+
+@dataclass(frozen=True)
+class Checkpoint:
+    """A resumable state: the strategy ``kind``, the format ``version``, the problem's
+    ``fingerprint`` and plain ``fields`` (numbers, text, arrays)."""
+
+    kind: str
+    fingerprint: str
+    fields: dict
+    version: int = CHECKPOINT_VERSION
+
+    def plain(self):
+        """Flat ``{name: array}`` for an ``.npz`` file."""
+        out = {"checkpoint_kind": np.array(self.kind), "checkpoint_version": np.array(self.version),
+               "fingerprint": np.array(self.fingerprint)}
+        out.update({f"field_{k}": np.asarray(v) for k, v in self.fields.items()})
+        return out
+
+    @classmethod
+    def from_plain(cls, data, source="checkpoint"):
+        """The checkpoint of :meth:`plain`'s fields; a file of another format is refused."""
+        if "checkpoint_kind" not in data or "checkpoint_version" not in data:
+            raise ScenarioError(f"{source}: not a railwear checkpoint of this version (start the run again)")
+        version = int(data["checkpoint_version"])
+        if version != CHECKPOINT_VERSION:
+            raise ScenarioError(f"{source}: checkpoint format {version}, this railwear reads {CHECKPOINT_VERSION}")
+        kind = str(data["checkpoint_kind"])
+        strategy_class(kind)
+        fields = {k[len("field_"):]: _plain(v) for k, v in data.items() if k.startswith("field_")}
+        return cls(kind, str(data["fingerprint"]), fields, version)
+
+    @property
+    def steps(self):
+        """Steps the run had taken (output intervals for the evolution equation)."""
+        return int(self.fields["intervals"] if "intervals" in self.fields else self.fields["steps"])
+
+    def check(self, kind, key, body="long-term"):
+        """Refuse a checkpoint of another strategy or problem (of the ``body``)."""
+        if self.kind != kind:
+            raise ScenarioError(f"resume: the checkpoint is of the {self.kind} strategy, not {kind}")
+        if self.fingerprint != key:
+            raise ScenarioError(f"resume: the checkpoint belongs to another {body} problem or run")
+
+
+def _plain(value):
+    value = np.asarray(value)
+    if value.ndim:
+        return value
+    return {"U": str, "i": int, "u": int, "f": float, "b": bool}.get(value.dtype.kind, lambda v: v)(value.item())
+
+
+def fingerprint(*parts):
+    """SHA-256 of arrays and plain values, to tie a checkpoint to its problem."""
+    digest = hashlib.sha256()
+    for part in parts:
+        if isinstance(part, np.ndarray):
+            digest.update(np.ascontiguousarray(part, dtype=float).tobytes())
+        else:
+            digest.update(repr(part).encode())
+    return digest.hexdigest()
+
+
+BIT_GENERATORS = {"PCG64": np.random.PCG64}
+
+
+def rng_state_text(rng):
+    """The state of a ``numpy.random.Generator`` as JSON text (it holds 128-bit integers)."""
+    return json.dumps(rng.bit_generator.state)
+
+
+def rng_from_text(text):
+    """A generator continuing from :func:`rng_state_text` (only the bit generators railwear writes)."""
+    try:
+        state = json.loads(str(text))
+        bit_generator = BIT_GENERATORS[state["bit_generator"]]()
+        bit_generator.state = state
+    except (ValueError, KeyError, TypeError):
+        raise ScenarioError("checkpoint: the random generator state cannot be read") from None
+    return np.random.Generator(bit_generator)
+
+
+def stop_fraction(removed, increment, depth_limit):
+    """Largest ``f`` in [0, 1] with ``max_j(removed_j + f increment_j) <= depth_limit`` (m): the
+    part of a linear wear increment that brings the most worn spot exactly to the limit."""
+    if depth_limit is None or np.max(removed + increment) < depth_limit:
+        return 1.0
+    room = depth_limit - removed
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = np.where(increment > 0, room / increment, np.inf)
+    return float(np.clip(np.min(f), 0.0, 1.0))
+
+
+def fraction_done(T, until, removed, depth_limit):
+    """Progress of a run at normed time ``T``: the larger of ``T / until`` and the most worn
+    spot's ``max(removed) / depth_limit`` (``removed`` in m), at most 1."""
+    done = T / until
+    if depth_limit is not None:
+        done = max(done, float(np.max(removed)) / depth_limit)
+    return min(done, 1.0)
+
+
+def checked_run(until, depth_limit):
+    """Refuse a run end that is not a positive normed time or depth (m)."""
+    if not (np.isfinite(until) and until > 0):
+        raise ScenarioError(f"until must be finite and > 0 (normed time), got {until}")
+    if depth_limit is not None and not (np.isfinite(depth_limit) and depth_limit > 0):
+        raise ScenarioError(f"depth_limit must be > 0 (m), got {depth_limit}")
+
+
+def checked_start(u0, until, depth_limit):
+    """``u0`` (m, over the angle) as a float array after the checks every run makes."""
+    u0 = np.asarray(u0, float)
+    if u0.ndim != 1 or u0.size < 4:
+        raise ScenarioError("u0 must be 1-D with at least 4 angles")
+    if not np.all(np.isfinite(u0)):
+        raise ScenarioError("u0 must be finite")
+    checked_run(until, depth_limit)
+    return u0
+
+
+def time_coordinates(times, life_distance, speed):
+    """The contract's coordinates: normed ``time``, ``distance`` (km) at ``life_distance`` (m)
+    per unit, ``speed`` (m/s)."""
+    times = np.asarray(times, float)
+    return {"time": ("time", times, {"units": "1", "long_name": "normed life time"}),
+            "distance": ("time", times * life_distance / KM, {"units": "km", "long_name": "distance run"}),
+            "speed": ((), float(speed), {"units": "m s-1", "long_name": "vehicle speed (mean of the service)"})}
+
+
+def stop_time(times):
+    """The ``stop_time`` variable of the contract."""
+    return ((), float(np.asarray(times)[-1]), {"units": "1", "long_name": "normed time at which the run stopped"})
+
+
+def check_result(ds):
+    """Refuse a Dataset that breaks the result contract (a ``ValueError`` naming what is missing)."""
+    missing = [v for v in MANDATORY if v not in ds.variables] + [c for c in COORDINATES if c not in ds.coords]
+    missing += [f"attribute {a}" for a in ATTRIBUTES if a not in ds.attrs]
+    missing += [] if any(str(v).startswith("cost_") for v in ds.data_vars) else ["cost_*"]
+    if missing:
+        raise ValueError(f"result contract: missing {', '.join(missing)}")
+    if ds.u.dims[0] != "time" or "angle" not in ds.u.dims or ds.u.attrs.get("units") != "m":
+        raise ValueError(f"result contract: u must be in m over (time, ..., angle[, lateral]), not {ds.u.dims}")
+    if ds.distance.attrs.get("units") != "km" or ds.speed.attrs.get("units") != "m s-1":
+        raise ValueError("result contract: distance in km and speed in m s-1")
+    return ds

@@ -1,0 +1,354 @@
+"""The disk wheel as a long-term body (paper Fig. 5): strategies 1 and 3 on the compiled dynamics.
+
+The dynamics are :class:`railwear.dynamics.DiskWheelModel` on the compiled integrator
+(``railwear.dynamics.integrators.integrate``, Dormand-Prince 5(4) with contact-loss events) over
+whole revolutions, the frictional energy swept onto the wheel cells. The energy ``E_j`` (J) a
+cell of the ``u`` grid received becomes the depth (paper eq. 2a with the energy law, the patch
+spread ``χ`` uniform over the cells it sweeps):
+
+    Δu_j = -β E_j / (R0 Δx w),   Δx = 2π / n,
+
+``β`` (m³/J) the energy law's volume per frictional energy and ``w`` (m) the lateral width of the
+wear band: the volume removed equals ``β`` times the frictional energy, to round-off.
+
+Frozen geometry (paper Fig. 7, strategy 3): with ``u`` frozen, the wheel runs
+``transient_revolutions`` (thrown away) and then ``revolutions`` more, for ``samples`` random draws
+of the initial phase (uniform on [0, 2π)) and of the speed from the service distribution; the
+mean over the draws of the depth per unit normed time is the Monte Carlo rate, with its standard
+error ``std / sqrt(samples)``. The dynamics see the shape ``u - mean(u)`` (a uniformly smaller
+wheel only lowers the axle), each draw starting at the static approach under its cell.
+
+Coupled (strategy 1): the wheel runs in segments of ``1 / updates_per_revolution`` of a
+revolution over the current surface from where the last one ended; each segment's energy is worn
+off at once with ``A β``. Finer is not better at large ``A``: each update wears the cells just
+passed at once, a step of ``A`` times the wear right behind the patch that kicks the vertical
+dynamics; per revolution it is spread round the whole wheel and only its uneven part is felt.
+The error is first order in ``A``; ``A = 1`` is the coupled system itself.
+"""
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from railwear.dynamics import integrators as integ
+from railwear.errors import NumericalInstabilityError, ScenarioError
+from railwear.longterm.base import Body, checked_start, stop_time, time_coordinates
+from railwear.longterm.spectra import describe
+
+
+def surface(u):
+    """``u`` (m) at the nodes ``2π j / n`` followed by its cumulative trapezoidal integral: the
+    part of the dynamics' surface array the contact filter reads (a model's full array, with its
+    creep curve, is ``DiskWheelModel.surface_for``)."""
+    u = np.asarray(u, float)
+    dx = 2.0 * math.pi / u.size
+    return np.concatenate([u, [0.0], np.cumsum(0.5 * dx * (u + np.roll(u, -1)))])
+
+
+@dataclass(frozen=True)
+class Integration:
+    """Options of the compiled integrator: relative and absolute tolerance (m-scale states)."""
+
+    rtol: float = 1e-7
+    atol: float = 1e-13
+    max_steps: int = 50_000_000
+
+    def __post_init__(self):
+        if not 1e-13 <= self.rtol < 1:
+            raise ScenarioError(f"rtol must lie in [1e-13, 1), got {self.rtol}")
+        if not self.atol > 0:
+            raise ScenarioError(f"atol must be > 0, got {self.atol}")
+
+
+def advance(model, p, surf, y, t0, t1, energy, options: Integration):
+    """Integrate the disk wheel ``model`` (its parameter array ``p`` and surface ``surf``) from
+    state ``y`` at ``t0`` to ``t1`` (s), adding the frictional energy (J) per cell to ``energy``
+    (an empty array: none). Returns ``(y_end, rhs_evaluations)``."""
+    out = integ.integrate(model.kind, p, surf, np.asarray(y, float), float(t0), float(t1), options.rtol,
+                          options.atol, integ.METHOD_DOPRI5, 0.0, math.inf, options.max_steps,
+                          np.zeros(0), 1_000_000_000, True, 1e6, energy)
+    status, t_last, y_last, stats = out[3], out[4], out[5], out[6]
+    if status != integ.STATUS_OK:
+        raise NumericalInstabilityError(
+            f"disk wheel at {model.speed:g} m/s: integration failed (status {status}) at t = {t_last:.6g} s",
+            last_good=y_last.copy(), last_time=float(t_last))
+    return y_last.copy(), int(stats[integ.STAT_NFEV])
+
+
+def wheel_turn(model):
+    """Time of one wheel revolution in steady rolling (s): ``2π R0 / (V (1 + ξ))``."""
+    return 2.0 * math.pi * model.radius / (model.speed * (1.0 + model.steady_creepage()))
+
+
+def start_lift(model, u, angle):
+    """Lift (m) that starts the wheel at its static approach over ``u`` at contact ``angle`` (rad):
+    the patch mean of ``u`` there (the contact filter of the dynamics)."""
+    from railwear.dynamics import kernels
+
+    return float(kernels.patch_average(surface(u), u.size, float(angle), model.patch_half_length / model.radius))
+
+
+def depth_per_energy(model, n_cells, beta, band_width):
+    """Depth (m) per joule a cell receives: ``β / (R0 Δx w)``."""
+    return beta / (model.radius * (2.0 * math.pi / n_cells) * band_width)
+
+
+@dataclass(frozen=True)
+class ServiceSpeeds:
+    """Speed distribution of service: ``peaks`` (m/s) drawn with ``weights`` (summing to 1), each
+    with a normal ``scatter`` (m/s, standard deviation; draws are kept above 0.5 m/s)."""
+
+    peaks: tuple
+    weights: tuple | None = None
+    scatter: float = 0.0
+
+    def __post_init__(self):
+        peaks = tuple(float(v) for v in np.atleast_1d(self.peaks))
+        object.__setattr__(self, "peaks", peaks)
+        if not peaks or not all(np.isfinite(v) and v > 0 for v in peaks):
+            raise ScenarioError("service speeds: every peak must be finite and > 0 (m/s)")
+        weights = (1.0 / len(peaks),) * len(peaks) if self.weights is None else tuple(float(w) for w in self.weights)
+        object.__setattr__(self, "weights", weights)
+        if len(weights) != len(peaks) or any(not w >= 0 for w in weights):
+            raise ScenarioError("service speeds: one weight >= 0 per peak is needed")
+        if abs(sum(weights) - 1) > 1e-9:
+            raise ScenarioError(f"service speeds: the weights must sum to 1, not {sum(weights):g}")
+        if not (np.isfinite(self.scatter) and self.scatter >= 0):
+            raise ScenarioError("service speeds: scatter must be finite and >= 0 (m/s)")
+
+    @property
+    def mean(self):
+        """Mean speed (m/s)."""
+        return float(np.dot(self.peaks, self.weights))
+
+    def sample(self, rng, n):
+        """``n`` speeds (m/s) drawn with ``rng``."""
+        peak = rng.choice(len(self.peaks), size=n, p=np.asarray(self.weights))
+        v = np.asarray(self.peaks)[peak] + self.scatter * rng.standard_normal(n)
+        low = v < 0.5
+        while np.any(low):
+            v[low] = np.asarray(self.peaks)[peak[low]] + self.scatter * rng.standard_normal(int(low.sum()))
+            low = v < 0.5
+        return v
+
+
+@dataclass(frozen=True)
+class DiskWheel(Body):
+    """The disk wheel ``model`` (a :class:`~railwear.dynamics.DiskWheelModel`; its speed, phase
+    and ``u`` are replaced per run) worn by the energy law's ``beta`` (m³/J) over the lateral
+    ``band_width`` (m); ``life_distance`` (m) one unit of normed time. Frozen geometry draws the
+    speed from ``service`` (default: the model's speed); the coupled run updates the surface
+    ``updates_per_revolution`` times a revolution."""
+
+    model: object
+    beta: float
+    band_width: float
+    life_distance: float
+    service: ServiceSpeeds | None = None
+    revolutions: int = 4
+    transient_revolutions: int = 4
+    samples: int = 8
+    updates_per_revolution: int = 1
+    integration: Integration = field(default_factory=Integration)
+    _coupled: dict = field(default_factory=dict, compare=False, repr=False)
+
+    name = "disk_wheel"
+    label = "disk wheel"
+
+    def __post_init__(self):
+        for name in ("beta", "band_width", "life_distance"):
+            if not (np.isfinite(getattr(self, name)) and getattr(self, name) > 0):
+                raise ScenarioError(f"{name} must be finite and > 0")
+        for name, low in (("revolutions", 1), ("transient_revolutions", 0), ("samples", 2),
+                          ("updates_per_revolution", 1)):
+            value = getattr(self, name)
+            if int(value) != value or value < low:
+                raise ScenarioError(f"{name} must be a whole number >= {low}, got {value}"
+                                    + (" (for a variance)" if name == "samples" else ""))
+        if self.service is None:
+            object.__setattr__(self, "service", ServiceSpeeds((self.model.speed,)))
+
+    # frozen geometry
+    def draw(self, u, rng):
+        """One Monte Carlo set over the frozen ``u`` (m): ``(rates, speeds, cost)``, ``rates`` the
+        depth per unit normed time of each draw and cell (m), ``(samples, n)``; ``cost`` a dict of
+        revolutions simulated and right-hand-side evaluations."""
+        u = np.asarray(u, float)
+        shape = u - u.mean()
+        speeds = self.service.sample(rng, self.samples)
+        phases = rng.uniform(0.0, 2.0 * np.pi, self.samples)
+        rates = np.empty((self.samples, u.size))
+        nfev = 0
+        for i, (v, phase) in enumerate(zip(speeds, phases)):
+            model = replace(self.model, speed=float(v), radius_deviation=shape, initial_angle=float(phase),
+                            initial_lift=start_lift(self.model, shape, phase))
+            p, surf, y = model.params(), model.surface(), model.initial_state()
+            turn = wheel_turn(model)
+            t0 = self.transient_revolutions * turn
+            if t0 > 0:
+                y, n = advance(model, p, surf, y, 0.0, t0, np.zeros(0), self.integration)
+                nfev += n
+            energy = np.zeros(u.size)
+            _, n = advance(model, p, surf, y, t0, t0 + self.revolutions * turn, energy, self.integration)
+            nfev += n
+            distance = self.revolutions * turn * model.speed
+            rates[i] = energy * depth_per_energy(model, u.size, self.beta, self.band_width) / distance * self.life_distance
+        cost = {"revolutions": self.samples * (self.revolutions + self.transient_revolutions), "rhs_evaluations": nfev}
+        return rates, speeds, cost
+
+    def statistics(self, u, rng):
+        """Mean wear rate per cell (m per unit normed time), its standard error and the cost."""
+        rates, _, cost = self.draw(u, rng)
+        return rates.mean(0), rates.std(0, ddof=1) / np.sqrt(self.samples), cost
+
+    def cell_volume(self, n_cells):
+        """Volume (m³) per metre of depth of one of ``n_cells`` cells: ``R0 Δx w``."""
+        return self.model.radius * (2.0 * math.pi / n_cells) * self.band_width
+
+    # the body protocol
+    def start(self, u0):
+        return checked_start(u0, 1.0, None).copy()
+
+    def removed(self, u, u_start):
+        return u_start - u
+
+    def removal(self, increment):
+        return increment
+
+    def apply(self, u, increment):
+        return u - increment
+
+    def error_shape(self, u):
+        return u.shape
+
+    def new_cost(self):
+        return {"revolutions": 0, "rhs_evaluations": 0}
+
+    def rates(self, u, rng, cost):
+        rate, error, spent = self.statistics(u, rng)
+        for k, v in spent.items():
+            cost[k] += v
+        return rate, error, float(rate.sum() * self.cell_volume(u.size)), None
+
+    def couple(self, u, rng, acceleration, cost):
+        shape = u - u.mean()
+        model, p, turn, _, _ = self._derived(shape, acceleration)
+        y, t = model.initial_state(), self.transient_revolutions * turn
+        if t > 0:
+            y, n = advance(model, p, model.surface(), y, 0.0, t, np.zeros(0), self.integration)
+            cost["rhs_evaluations"] += n
+        cost["revolutions"] += self.transient_revolutions
+        return {"shape": shape, "seconds": t, "state": y}
+
+    def _derived(self, shape, acceleration):
+        """The model over the start's ``shape`` (m), its parameters, one turn (s), the depth per
+        joule and the normed time per segment, kept for the run."""
+        key = (np.asarray(shape, float).tobytes(), acceleration)
+        if self._coupled.get("key") != key:
+            model = replace(self.model, radius_deviation=shape,
+                            initial_lift=start_lift(self.model, shape, self.model.initial_angle))
+            turn = wheel_turn(model)
+            gain = acceleration * depth_per_energy(model, shape.size, self.beta, self.band_width)
+            dT = acceleration * model.speed * (turn / self.updates_per_revolution) / self.life_distance
+            self._coupled.clear()
+            self._coupled.update(key=key, derived=(model, model.params(), turn, gain, dT))
+        return self._coupled["derived"]
+
+    def segment(self, u, carry, acceleration, remaining, cost):
+        model, p, turn, gain, dT = self._derived(carry["shape"], acceleration)
+        segment = turn / self.updates_per_revolution
+        t = carry["seconds"]
+        energy = np.zeros(u.size)
+        y, n = advance(model, p, model.surface_for(u - u.mean()), carry["state"], t, t + segment, energy,
+                       self.integration)
+        cost["rhs_evaluations"] += n
+        cost["revolutions"] += 1 / self.updates_per_revolution
+        carry = {"shape": carry["shape"], "seconds": t + segment, "state": y}
+        return gain * energy, dT, False, acceleration * self.beta * float(energy.sum()), None, carry
+
+    def record(self, u, seen, law_volume):
+        return {"u": u.copy(), "law_volume": law_volume}
+
+    def result(self, records, times, cost, error, attrs):
+        import xarray as xr
+
+        saved = np.asarray(records["u"])
+        n = saved.shape[1]
+        removed = (saved[0] - saved).sum(1) * self.cell_volume(n)
+        data = {"u": (("time", "angle"), saved, {"units": "m", "long_name": "radius deviation from the nominal radius"}),
+                "stop_time": stop_time(times),
+                "removed_volume": ("time", removed, {"units": "m3", "long_name": "volume removed from the tread"}),
+                "law_volume": ("time", np.asarray(records["law_volume"], float),
+                               {"units": "m3", "long_name": "volume of the wear law"}),
+                "cost_revolutions": ((), cost["revolutions"], {"units": "1", "long_name": "wheel revolutions simulated"}),
+                "cost_rhs_evaluations": ((), cost["rhs_evaluations"],
+                                         {"units": "1", "long_name": "right-hand sides of the dynamics evaluated"})}
+        if error is not None:
+            data["u_standard_error"] = (("time", "angle"), np.asarray(error),
+                                        {"units": "m", "long_name": "Monte Carlo standard error of u"})
+        coords = time_coordinates(times, self.life_distance, self.service.mean)
+        coords["angle"] = ("angle", 2 * np.pi * np.arange(n) / n, {"units": "rad", "long_name": "angle round the wheel"})
+        return describe(xr.Dataset(data, coords=coords, attrs=attrs))
+
+    def fingerprint_parts(self):
+        return (self.beta, self.band_width, self.life_distance, self.service, self.revolutions,
+                self.transient_revolutions, self.samples, self.updates_per_revolution, self.integration,
+                repr(self.model))
+
+
+def wear_intensity(model, u, beta, band_width, angle=0.0, turns=12, per_turn=20000, phase=0.0):
+    """Depth rate (m/s) at the fixed wheel position ``angle`` (rad) over ``turns`` revolutions of
+    the disk wheel ``model`` over the frozen ``u`` (m), paper Fig. 7: ``β P(t) / (2 a w)`` while
+    the patch (half-length ``a``, uniform) covers the position, else 0. Also the integral of each
+    "tooth" (m of depth per pass; the first and last may be partial) and the contact angle; starts
+    at contact angle ``phase``. ``per_turn`` output times a revolution resolve a pass by about
+    ``per_turn a / (π R0)`` samples (the teeth to about the inverse of that)."""
+    from dataclasses import replace
+
+    import xarray as xr
+
+    from railwear.dynamics import simulate
+
+    u = np.asarray(u, float)
+    shape = u - u.mean()
+    m = replace(model, radius_deviation=shape, initial_angle=float(phase),
+                initial_lift=start_lift(model, shape, phase))
+    duration = turns * wheel_turn(m)
+    ds = simulate(m, duration, n_output=int(turns * per_turn) + 1)
+    t, xc, power = ds.time.values, ds.contact_angle.values, ds.frictional_power.values
+    half = m.patch_half_length / m.radius
+    distance = np.angle(np.exp(1j * (xc - angle)))
+    covered = np.abs(distance) <= half
+    rate = np.where(covered, beta * power / (2 * m.patch_half_length * band_width), 0.0)
+    # teeth: one per pass, where the patch leaves the position
+    passes = np.cumsum(np.diff(covered.astype(int), prepend=0) == 1) * covered
+    dt = np.gradient(t)
+    teeth = np.array([np.sum(rate[passes == k] * dt[passes == k]) for k in range(1, passes.max() + 1)])
+    return xr.Dataset(
+        {"wear_intensity": ("time", rate, {"units": "m s-1", "long_name": f"depth rate at {np.degrees(angle):g} deg"}),
+         "contact_angle": ("time", np.mod(xc, 2 * np.pi), {"units": "rad", "long_name": "contact angle on the wheel"}),
+         "frictional_power": ("time", power, {"units": "W", "long_name": "frictional power in the contact"}),
+         "tooth_depth": ("tooth", teeth, {"units": "m", "long_name": "depth worn at the position per pass"})},
+        coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
+        attrs={"position_rad": float(angle), "speed": m.speed})
+def surface_wear(model, u, beta, surface, turns=12, per_turn=4000, lateral_half_axis=None, footprint="hertz",
+                 acceleration=1.0):
+    """Wear a :class:`~railwear.geometry.wear_surface.WearSurface` (paper Fig. 4) with the disk
+    wheel ``model`` running ``turns`` revolutions over the frozen ``u`` (m): the frictional energy
+    of each output interval, times ``acceleration β``, is deposited with the Hertz (or another)
+    footprint of half-lengths ``a`` (the model's) and ``lateral_half_axis`` ``b`` (m) at the
+    contact angle, on the centre line of the tread. Returns the surface and the volume (m³)."""
+    from railwear.dynamics import simulate
+
+    u = np.asarray(u, float)
+    shape = u - u.mean()
+    m = replace(model, radius_deviation=shape, initial_lift=start_lift(model, shape, model.initial_angle))
+    ds = simulate(m, turns * wheel_turn(m), n_output=int(turns * per_turn) + 1)
+    t, xc, power = ds.time.values, ds.contact_angle.values, ds.frictional_power.values
+    energy = 0.5 * (power[1:] + power[:-1]) * np.diff(t)
+    angle = 0.5 * (xc[1:] + xc[:-1])
+    b = m.patch_half_length if lateral_half_axis is None else lateral_half_axis
+    volume = acceleration * beta * energy
+    surface.deposit(volume, angle, 0.0, m.patch_half_length, b, footprint=footprint)
+    return surface, float(volume.sum())

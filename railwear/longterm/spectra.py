@@ -1,0 +1,44 @@
+"""What users read off a worn wheel's ``u`` over the angle: removed depth and polygon spectra."""
+
+import numpy as np
+import xarray as xr
+
+from railwear.geometry import roundness
+
+def describe(ds: xr.Dataset):
+    """Add removed depth over time and the initial and final polygon spectra to a solution."""
+    u = ds.u
+    batch = [d for d in u.dims if d not in ("time", "angle")]
+    u0, u_end = u.isel(time=0), u.isel(time=-1)
+    removed = (u0 - u).max("angle")
+    ds["removed_depth"] = removed.assign_attrs(
+        units="m", long_name="largest radius lost since the start (most worn spot)")
+    ds["mean_removed_depth"] = (u0 - u).mean("angle").assign_attrs(
+        units="m", long_name="mean radius lost since the start")
+    deviation = u - u.mean("angle")
+    rows = deviation.transpose(*batch, "time", "angle").values.reshape(-1, u.sizes["time"], u.sizes["angle"])
+    spectra = [(roundness.polygon_spectrum(r[0]), roundness.polygon_spectrum(r[-1])) for r in rows]
+    shape = [u.sizes[d] for d in batch]
+    order = spectra[0][1]["order"]
+
+    def per_row(key, which):
+        return np.array([s[which][key] for s in spectra]).reshape(shape + list(np.shape(spectra[0][which][key])))
+
+    dims_order = tuple(batch) + ("order",)
+    ds = ds.assign_coords(order=("order", order, {"units": "1", "long_name": "polygon order"}))
+    ds["amplitude"] = (dims_order, per_row("amplitude", 1),
+                       {"units": "m", "long_name": "harmonic amplitude at the end"})
+    ds["amplitude_initial"] = (dims_order, per_row("amplitude", 0),
+                               {"units": "m", "long_name": "harmonic amplitude at the start"})
+    ds["roughness_level"] = (dims_order, per_row("roughness_level", 1),
+                             {"units": "dB", "long_name": "roughness level per order at the end, re 1 um rms"})
+    ds["dominant_order"] = (tuple(batch), per_row("dominant_order", 1),
+                            {"units": "1", "long_name": "order of the largest harmonic at the end"})
+    ds["maxima"] = (tuple(batch), per_row("maxima", 1),
+                    {"units": "1", "long_name": "radius maxima round the wheel at the end"})
+    pp0, pp1 = per_row("peak_to_peak", 0), per_row("peak_to_peak", 1)
+    ds["peak_to_peak_initial"] = (tuple(batch), pp0, {"units": "m", "long_name": "peak-to-peak deviation at the start"})
+    ds["peak_to_peak"] = (tuple(batch), pp1, {"units": "m", "long_name": "peak-to-peak deviation at the end"})
+    regimes = np.vectorize(roundness.regime, otypes=[object])(pp0, pp1)
+    ds["regime"] = (tuple(batch), regimes.astype(str), {"long_name": "wear regime (stable, smoothing, onset, polygonalising)"})
+    return ds
