@@ -8,8 +8,9 @@ packages (``railwear`` itself on import). It keeps the directory numba would cho
 (``NUMBA_CACHE_DIR`` if set, else the ``__pycache__`` beside the source if writable, else the
 user-wide cache directory) and stamps the cache with ``source_key(file)``: a SHA-256 of the file
 and of every file of the package it imports, transitively (``import`` / ``from ... import``
-anywhere in a file, relative ones too, re-exports through a package's ``__init__`` followed).
-numba loads an index only when its stamp is equal, so an edited dependency means a recompile,
+anywhere in a file, relative ones too; ``from package import name`` brings the package's
+``__init__`` and what that imports, since the name may be re-exported there; the import of this
+module itself is skipped). numba loads an index only when its stamp is equal, so an edited dependency means a recompile,
 which overwrites the old entries; an unchanged tree loads from the cache as before. A file that
 imports no other file of its package keeps numba's own stamp (the same cache whether or not this
 module was imported first).
@@ -29,6 +30,7 @@ from __future__ import annotations
 import ast
 import hashlib
 import os
+import re
 from functools import lru_cache
 
 from numba.core import caching
@@ -70,28 +72,40 @@ def _file_of(module):
     return None
 
 
+# an import statement at the start of a line, with its parenthesised or backslash-continued rest;
+# cheaper than parsing the whole file, and a match in a docstring only adds a dependency
+_IMPORT = re.compile(r"^[ \t]*((?:from[ \t]+\S+[ \t]+)?import[ \t]+(?:\([^)]*\)|(?:[^\n\\]|\\\n)*))", re.M)
+
+
 @lru_cache(maxsize=None)
 def _direct_imports(path, mtime_ns, size):
     """The registered-package files that ``path``'s import statements name (memoised per version
     of the file)."""
     module, package = _module_of(path)
-    with open(path, "rb") as f:
-        tree = ast.parse(f.read(), filename=path)
+    with open(path, encoding="utf-8") as f:
+        source = f.read()
     named = []
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            for alias in node.names:  # ``import a.b.c`` reaches a, a.b and a.b.c
-                parts = alias.name.split(".")
-                named += [".".join(parts[:i]) for i in range(1, len(parts) + 1)]
-        elif isinstance(node, ast.ImportFrom):
-            if node.level:
-                anchor = package.split(".")
-                anchor = anchor[:len(anchor) - node.level + 1]
-                base = ".".join(anchor + ([node.module] if node.module else []))
-            else:
-                base = node.module
-            named.append(base)
-            named += [f"{base}.{alias.name}" for alias in node.names]  # submodules among the names
+    for match in _IMPORT.finditer(source):
+        if "_numba_cache" in match.group(1):  # the line that adopts this module is no dependency
+            continue
+        try:
+            statements = ast.parse(match.group(1).replace("\\\n", " ")).body
+        except SyntaxError:  # prose that looks like an import
+            continue
+        for node in statements:
+            if isinstance(node, ast.Import):
+                for alias in node.names:  # ``import a.b.c`` reaches a, a.b and a.b.c
+                    parts = alias.name.split(".")
+                    named += [".".join(parts[:i]) for i in range(1, len(parts) + 1)]
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:
+                    anchor = package.split(".")
+                    anchor = anchor[:len(anchor) - node.level + 1]
+                    base = ".".join(anchor + ([node.module] if node.module else []))
+                else:
+                    base = node.module
+                named.append(base)
+                named += [f"{base}.{alias.name}" for alias in node.names]  # submodules among the names
     files = {_file_of(name) for name in named}
     return tuple(sorted(os.path.abspath(f) for f in files if f is not None))
 
@@ -114,8 +128,14 @@ def dependencies(path) -> tuple:
 
 def source_key(path) -> str:
     """SHA-256 (hex) of ``dependencies(path)``: their names within the package and their bytes."""
+    return _hash(tuple(_stat_key(dep) for dep in dependencies(path)))
+
+
+@lru_cache(maxsize=None)
+def _hash(stats):
+    """``source_key`` of the files in ``stats`` (``_stat_key`` each: memoised per version)."""
     digest = hashlib.sha256()
-    for dep in dependencies(path):
+    for dep, _, _ in stats:
         module, _ = _module_of(dep)
         with open(dep, "rb") as f:
             content = f.read()

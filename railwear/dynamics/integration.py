@@ -171,11 +171,10 @@ class Integrator:
             self.first_step, self.max_step, self.max_steps, t_eval, every, self.events, self.max_norm, energy, *extra)
         return IntegrationResult(status=int(status), t=float(t_last), y=y_last, stats=IntegrationStats.from_array(stats),
                                  t_out=ts[:n_out], y_out=ys[:n_out], event_t=ev_t, event_y=ev_y,
-                                 event_direction=ev_dir, message=self._message(int(status)))
+                                 event_direction=ev_dir, message="" if status == _integ.STATUS_OK else self._message(status))
 
     def _message(self, status) -> str:
         return {
-            _integ.STATUS_OK: "",
             _integ.STATUS_MAX_STEPS: f"max_steps = {self.max_steps} reached",
             _integ.STATUS_STEP_TOO_SMALL:
                 "the step size fell to round-off (tolerance cannot be met or the solution is singular)",

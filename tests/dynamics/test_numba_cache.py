@@ -36,8 +36,8 @@ def _package(root, relative=False):
     (pkg / "sub" / "helper.py").write_text("from numba import njit\n\n\n@njit(cache=True)\ndef helper():\n    return 1\n")
     (pkg / "constants.py").write_text("SCALE = 1\n")
     (pkg / "unrelated.py").write_text("X = 0\n")
-    imports = ("from .sub import helper\nfrom . import constants\nSCALE = constants.SCALE" if relative else
-               "from pkgx.sub import helper\nfrom pkgx.constants import SCALE")
+    imports = ("from .sub import \\\n    helper\nfrom . import constants\nSCALE = constants.SCALE" if relative else
+               "from pkgx.sub import (\n    helper,\n)\nfrom pkgx.constants import SCALE")
     (pkg / "kernel.py").write_text(KERNEL.format(imports=imports))
     return pkg
 
