@@ -45,18 +45,18 @@ def main():
     law, band, life = build.wear_law(sc), build.band_width(sc), sc.operation.life_distance_km * 1e3
     model = build.disk_wheel_model(sc, SPEED)
     u0 = roundness.random_perturbation(POINTS, 40e-6, 2, 12, np.random.default_rng(1))
-    frozen = DiskWheel(model, law.beta, band, life, ServiceSpeeds((SPEED,)), revolutions=4,
+    frozen = DiskWheel(model, law, band, life, ServiceSpeeds((SPEED,)), revolutions=4,
                             transient_revolutions=4, samples=4)
     # compile and load the caches outside the timings
     Stepwise(frozen, 1e-4).run(u0, 1.0, 2e-6)
-    fast = DiskWheel(model, law.beta, band, life, ServiceSpeeds((SPEED,)), revolutions=2,
+    fast = DiskWheel(model, law, band, life, ServiceSpeeds((SPEED,)), revolutions=2,
                           transient_revolutions=2, samples=2)
-    Direct(DiskWheel(model, law.beta, band, life), 1e5).run(u0, 1.0, 2e-6)
+    Direct(DiskWheel(model, law, band, life), 1e5).run(u0, 1.0, 2e-6)
 
     def phenomenological():
         rng = np.random.default_rng(0)
         geometries = [u0] + [roundness.random_perturbation(POINTS, r, 2, 12, rng) for r in (20e-6, 40e-6, 60e-6, 80e-6)]
-        fit_frozen = DiskWheel(model, law.beta, band, life, ServiceSpeeds((SPEED,)), revolutions=4,
+        fit_frozen = DiskWheel(model, law, band, life, ServiceSpeeds((SPEED,)), revolutions=4,
                                     transient_revolutions=4, samples=2)
         t_fit, fit = timed(lambda: fit_h(gather(lambda v: fit_frozen, [SPEED], geometries, rng), degree=3, bins=16))
         t_pde, ds = timed(lambda: Phenomenological(fit.table, SPEED, sc.solver.epsilon, sc.solver.nu, fit.drift[0],
@@ -65,7 +65,7 @@ def main():
         return ds
 
     cases = {
-        "direct, A = 500": lambda: Direct(DiskWheel(model, law.beta, band, life), 500.0).run(u0, 1.0, DEPTH),
+        "direct, A = 500": lambda: Direct(DiskWheel(model, law, band, life), 500.0).run(u0, 1.0, DEPTH),
         "stepwise, 5 um on u": lambda: Stepwise(frozen, 5e-6).run(u0, 1.0, DEPTH),
         "stepwise, 2 um on the shape": lambda: Stepwise(frozen, 2e-6, limit_on="shape").run(u0, 1.0, DEPTH),
         "stepwise, 2nd order, 20 um shape": lambda: Stepwise(fast, 20e-6, limit_on="shape",

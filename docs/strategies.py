@@ -72,14 +72,14 @@ def one_speed(label, kmh, depth=DEPTH):
     v = kmh / 3.6
     model = build.disk_wheel_model(scenario, v)
     rows = {}
-    t, ref = timed(lambda: Direct(DiskWheel(model, law.beta, band, life), ACCELERATION).run(u0, 1.0, depth))
+    t, ref = timed(lambda: Direct(DiskWheel(model, law, band, life), ACCELERATION).run(u0, 1.0, depth))
     rows["direct"] = dict(ds=ref, seconds=t, revolutions=float(ref.cost_revolutions))
-    t, half = timed(lambda: Direct(DiskWheel(model, law.beta, band, life), 2 * ACCELERATION).run(u0, 1.0, depth))
+    t, half = timed(lambda: Direct(DiskWheel(model, law, band, life), 2 * ACCELERATION).run(u0, 1.0, depth))
     rows["direct, 2x factor"] = dict(ds=half, seconds=t, revolutions=float(half.cost_revolutions))
-    frozen = DiskWheel(model, law.beta, band, life, ServiceSpeeds((v,)), **FROZEN)
+    frozen = DiskWheel(model, law, band, life, ServiceSpeeds((v,)), **FROZEN)
     t, step = timed(lambda: Stepwise(frozen, STEP_LIMIT, seed=0).run(u0, 1.0, depth))
     rows["stepwise"] = dict(ds=step, seconds=t, revolutions=float(step.cost_revolutions))
-    fast = DiskWheel(model, law.beta, band, life, ServiceSpeeds((v,)), **FAST_FROZEN)
+    fast = DiskWheel(model, law, band, life, ServiceSpeeds((v,)), **FAST_FROZEN)
     t, quick = timed(lambda: Stepwise(fast, FAST_LIMIT, seed=0, limit_on="shape", scheme="adams-bashforth")
                      .run(u0, 1.0, depth))
     rows["stepwise, second order"] = dict(ds=quick, seconds=t, revolutions=float(quick.cost_revolutions))
@@ -90,7 +90,7 @@ def one_speed(label, kmh, depth=DEPTH):
     def fitted():
         rng = np.random.default_rng(0)
         geometries = [u0] + [roundness.random_perturbation(POINTS, rms, 2, 12, rng) for rms in (20e-6, 40e-6, 60e-6, 80e-6)]
-        stats = gather(lambda s: DiskWheel(model, law.beta, band, life, ServiceSpeeds((s,)), **FIT_FROZEN),
+        stats = gather(lambda s: DiskWheel(model, law, band, life, ServiceSpeeds((s,)), **FIT_FROZEN),
                        [v], geometries, rng)
         return stats, fit_h(stats, degree=3, bins=16), geometries
 
@@ -128,7 +128,7 @@ def grid_study(kmh=70.0, order=8):
     rows = []
     for n in GRIDS:
         u = roundness.harmonics(n, np.arange(2, 13), amplitudes, phases)
-        t, ds = timed(lambda: Direct(DiskWheel(model, law.beta, band, life), ACCELERATION).run(u, 1.0, DEPTH))
+        t, ds = timed(lambda: Direct(DiskWheel(model, law, band, life), ACCELERATION).run(u, 1.0, DEPTH))
         p = n / order
         filt = np.sinc(1 / p) ** 3
         rows.append((n, growth_per_km(ds, order), fourier, filt, t, float(ds.cost_revolutions)))
@@ -272,7 +272,7 @@ seed = 0
 `railwear fit [SCENARIO] --speeds 60,70,80 -o DIR` writes `DIR/fitted-h.toml` (the scenario with
 the fitted table and the phenomenological strategy) for `railwear run`. In Python:
 `railwear.longterm.stepwise.Stepwise(DiskWheel(...), step_limit).run(u0, until, depth_limit)`,
-`railwear.longterm.direct.Direct(DiskWheel(model, beta, band_width, life_distance), acceleration).run(...)`,
+`railwear.longterm.direct.Direct(DiskWheel(model, law, band_width, life_distance), acceleration).run(...)`,
 `railwear.longterm.fitting.fit_h(gather(...)).table` for the phenomenological strategy.
 """
 

@@ -45,7 +45,7 @@ def problem(speed):
     wheel, rail = load_profile("S1002"), load_profile("UIC60")
     model = TableWheelsetModel(speed=speed, **SUSPENSION, table=contact_table(wheel, rail),
                                friction_coefficient=FRICTION)
-    return WheelsetWear(model, wheel, rail, EnergyLaw().beta, LIFE)
+    return WheelsetWear(model, wheel, rail, EnergyLaw(), LIFE)
 
 
 def worn_critical_speed(p, ds):

@@ -103,14 +103,16 @@ def figure(name, scenario=None):
         data = build.fitted_h(sc, [speed])
         return PaperFigure(data, plots.fitted_relation(*data))
     model, beta, band = build.disk_wheel_model(sc, speed), build.wear_law(sc).beta, build.band_width(sc)
+    if beta is None:
+        raise ScenarioError(f"wear.law: the paper's frozen-geometry figures use the energy law, not {sc.wear.law!r}")
     u0 = build.initial_state(sc)
     if name == "teeth":
-        from railwear.longterm.stepwise import wear_intensity
+        from railwear.longterm.disk_wheel import wear_intensity
 
         data = wear_intensity(model, u0, beta, band, turns=12)
         return PaperFigure(data, plots.wear_intensity(data))
     from railwear.geometry.wear_surface import WearSurface
-    from railwear.longterm.direct import surface_wear
+    from railwear.longterm.disk_wheel import surface_wear
 
     b = band / 2
     surface = WearSurface(model.radius, 180, np.linspace(-2 * b, 2 * b, 17))

@@ -175,8 +175,12 @@ def plot(
         ds = results.read_netcdf(result)
     except (OSError, ValueError) as e:
         _fail(f"{result} is not a railwear result: {e}", 2)
-    if ("u" not in ds or "regime" not in ds) and "worn_depth" not in ds:
-        _fail(f"{result} is not a railwear result (no u and regime, or worn_depth variable)", 2)
+    from railwear.longterm.base import check_result
+
+    try:
+        check_result(ds)
+    except ValueError as e:
+        _fail(f"{result} is not a railwear result ({e})", 2)
     for path in plots.write_figures(ds, output or result.parent):
         typer.echo(f"wrote {path}")
 

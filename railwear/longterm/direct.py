@@ -56,5 +56,3 @@ class Direct(Strategy, name="direct"):
         return {"strategy_description": "direct coupled integration", "acceleration_factor": self.acceleration,
                 "segments": state.steps}
 
-
-from railwear.longterm.disk_wheel import surface_wear  # noqa: E402,F401  (old home, until the CLI moves)

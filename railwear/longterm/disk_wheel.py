@@ -31,10 +31,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from railwear.dynamics import integrators as integ
-from railwear.errors import NumericalInstabilityError, ScenarioError
+from railwear.dynamics import kernels
+from railwear.dynamics.integration import Integrator
+from railwear.errors import ScenarioError
 from railwear.longterm.base import Body, checked_start, stop_time, time_coordinates
 from railwear.longterm.spectra import describe
+from railwear.wear import ContactSample, WearLaw
 
 
 def surface(u):
@@ -46,34 +48,42 @@ def surface(u):
     return np.concatenate([u, [0.0], np.cumsum(0.5 * dx * (u + np.roll(u, -1)))])
 
 
-@dataclass(frozen=True)
-class Integration:
-    """Options of the compiled integrator: relative and absolute tolerance (m-scale states)."""
-
-    rtol: float = 1e-7
-    atol: float = 1e-13
-    max_steps: int = 50_000_000
-
-    def __post_init__(self):
-        if not 1e-13 <= self.rtol < 1:
-            raise ScenarioError(f"rtol must lie in [1e-13, 1), got {self.rtol}")
-        if not self.atol > 0:
-            raise ScenarioError(f"atol must be > 0, got {self.atol}")
+def long_term_integrator(rtol=1e-7, atol=1e-13, max_steps=50_000_000):
+    """The compiled integrator of the long-term runs: Dormand-Prince 5(4) with the disk wheel's
+    contact-loss events; ``atol`` on m-scale states."""
+    return Integrator(method="dopri5", rtol=rtol, atol=atol, max_steps=max_steps, events=True, max_norm=1e6)
 
 
-def advance(model, p, surf, y, t0, t1, energy, options: Integration):
+def advance(model, p, surf, y, t0, t1, energy, integrator, t_eval=None):
     """Integrate the disk wheel ``model`` (its parameter array ``p`` and surface ``surf``) from
     state ``y`` at ``t0`` to ``t1`` (s), adding the frictional energy (J) per cell to ``energy``
-    (an empty array: none). Returns ``(y_end, rhs_evaluations)``."""
-    out = integ.integrate(model.kind, p, surf, np.asarray(y, float), float(t0), float(t1), options.rtol,
-                          options.atol, integ.METHOD_DOPRI5, 0.0, math.inf, options.max_steps,
-                          np.zeros(0), 1_000_000_000, True, 1e6, energy)
-    status, t_last, y_last, stats = out[3], out[4], out[5], out[6]
-    if status != integ.STATUS_OK:
-        raise NumericalInstabilityError(
-            f"disk wheel at {model.speed:g} m/s: integration failed (status {status}) at t = {t_last:.6g} s",
-            last_good=y_last.copy(), last_time=float(t_last))
-    return y_last.copy(), int(stats[integ.STAT_NFEV])
+    (an empty array: none). Returns ``(y_end, rhs_evaluations)``, or with ``t_eval`` the
+    :class:`~railwear.dynamics.integration.IntegrationResult`."""
+    out = integrator.run(model.kind, p, surf, y, t0, t1, t_eval=t_eval, energy=energy)
+    out.check(f"disk wheel at {model.speed:g} m/s")
+    return out if t_eval is not None else (out.y.copy(), int(out.stats.rhs_evaluations))
+
+
+def swept_volume(model, p, surf, y, t0, t1, law, n_cells, band_width, integrator, n_output):
+    """Run as :func:`advance` with ``n_output`` dense outputs and wear by ``law`` (a
+    :class:`~railwear.wear.WearLaw`): the volume (m³) per cell, each output interval's
+    trapezoidal volume swept over the cells as the patch passes (the compiled energy sweep's
+    spread), with the Hertz patch area ``π a b (N/W)^(2/3)``, ``b`` half the band. Returns
+    ``(y_end, rhs_evaluations, cell_volumes)``."""
+    t = np.linspace(t0, t1, n_output)
+    out = advance(model, p, surf, y, t0, t1, np.zeros(0), integrator, t_eval=t)
+    c = kernels.outputs(model.kind, out.t_out, out.y_out, p, surf, kernels.DW_N_OUTPUTS)
+    force, creepage, power, angle = c[:, 0], c[:, 1], c[:, 3], np.unwrap(c[:, 4])  # the outputs wrap it
+    scale = np.cbrt(np.maximum(force, 0.0) / model.static_load) ** 2
+    contact = ContactSample(power, force, np.abs(creepage) * model.speed, np.full(t.size, model.speed),
+                            np.pi * model.patch_half_length * band_width / 2 * scale)
+    rate = np.asarray(law.volume_rate_of(contact), float)
+    volume = 0.5 * (rate[1:] + rate[:-1]) * np.diff(out.t_out)
+    cells = np.zeros(n_cells)
+    half = model.patch_half_length / model.radius
+    for k in range(volume.size):
+        kernels.sweep(cells, angle[k], angle[k + 1], half, volume[k])
+    return out.y.copy(), int(out.stats.rhs_evaluations), cells
 
 
 def wheel_turn(model):
@@ -84,8 +94,6 @@ def wheel_turn(model):
 def start_lift(model, u, angle):
     """Lift (m) that starts the wheel at its static approach over ``u`` at contact ``angle`` (rad):
     the patch mean of ``u`` there (the contact filter of the dynamics)."""
-    from railwear.dynamics import kernels
-
     return float(kernels.patch_average(surface(u), u.size, float(angle), model.patch_half_length / model.radius))
 
 
@@ -136,13 +144,15 @@ class ServiceSpeeds:
 @dataclass(frozen=True)
 class DiskWheel(Body):
     """The disk wheel ``model`` (a :class:`~railwear.dynamics.DiskWheelModel`; its speed, phase
-    and ``u`` are replaced per run) worn by the energy law's ``beta`` (m³/J) over the lateral
-    ``band_width`` (m); ``life_distance`` (m) one unit of normed time. Frozen geometry draws the
-    speed from ``service`` (default: the model's speed); the coupled run updates the surface
-    ``updates_per_revolution`` times a revolution."""
+    and ``u`` are replaced per run) worn by ``law`` (a :class:`~railwear.wear.WearLaw`) over the
+    lateral ``band_width`` (m); ``life_distance`` (m) one unit of normed time. Frozen geometry
+    draws the speed from ``service`` (default: the model's speed); the coupled run updates the
+    surface ``updates_per_revolution`` times a revolution. The energy law takes the compiled
+    energy sweep; other laws read the contact at ``outputs_per_revolution`` times a revolution
+    (:func:`swept_volume`)."""
 
     model: object
-    beta: float
+    law: WearLaw
     band_width: float
     life_distance: float
     service: ServiceSpeeds | None = None
@@ -150,18 +160,21 @@ class DiskWheel(Body):
     transient_revolutions: int = 4
     samples: int = 8
     updates_per_revolution: int = 1
-    integration: Integration = field(default_factory=Integration)
+    outputs_per_revolution: int = 2000
+    integration: Integrator = field(default_factory=long_term_integrator)
     _coupled: dict = field(default_factory=dict, compare=False, repr=False)
 
     name = "disk_wheel"
     label = "disk wheel"
 
     def __post_init__(self):
-        for name in ("beta", "band_width", "life_distance"):
+        if not isinstance(self.law, WearLaw):
+            raise ScenarioError(f"law must be a railwear.wear.WearLaw, not {type(self.law).__name__}")
+        for name in ("band_width", "life_distance"):
             if not (np.isfinite(getattr(self, name)) and getattr(self, name) > 0):
                 raise ScenarioError(f"{name} must be finite and > 0")
         for name, low in (("revolutions", 1), ("transient_revolutions", 0), ("samples", 2),
-                          ("updates_per_revolution", 1)):
+                          ("updates_per_revolution", 1), ("outputs_per_revolution", 16)):
             value = getattr(self, name)
             if int(value) != value or value < low:
                 raise ScenarioError(f"{name} must be a whole number >= {low}, got {value}"
@@ -189,11 +202,10 @@ class DiskWheel(Body):
             if t0 > 0:
                 y, n = advance(model, p, surf, y, 0.0, t0, np.zeros(0), self.integration)
                 nfev += n
-            energy = np.zeros(u.size)
-            _, n = advance(model, p, surf, y, t0, t0 + self.revolutions * turn, energy, self.integration)
+            depth, n = self._wear(model, p, surf, y, t0, t0 + self.revolutions * turn, u.size, self.revolutions)
             nfev += n
             distance = self.revolutions * turn * model.speed
-            rates[i] = energy * depth_per_energy(model, u.size, self.beta, self.band_width) / distance * self.life_distance
+            rates[i] = depth / distance * self.life_distance
         cost = {"revolutions": self.samples * (self.revolutions + self.transient_revolutions), "rhs_evaluations": nfev}
         return rates, speeds, cost
 
@@ -201,6 +213,23 @@ class DiskWheel(Body):
         """Mean wear rate per cell (m per unit normed time), its standard error and the cost."""
         rates, _, cost = self.draw(u, rng)
         return rates.mean(0), rates.std(0, ddof=1) / np.sqrt(self.samples), cost
+
+    @property
+    def beta(self):
+        """The energy law's volume per frictional energy (m³/J), ``None`` for another law."""
+        return self.law.beta
+
+    def _wear(self, model, p, surf, y, t0, t1, n_cells, revolutions):
+        """Depth (m) per cell worn from ``t0`` to ``t1`` over ``revolutions`` and the
+        right-hand sides; the compiled energy sweep for the energy law."""
+        if self.beta is not None:
+            energy = np.zeros(n_cells)
+            _, n = advance(model, p, surf, y, t0, t1, energy, self.integration)
+            return energy * depth_per_energy(model, n_cells, self.beta, self.band_width), n
+        n_output = max(int(math.ceil(revolutions * self.outputs_per_revolution)), 2) + 1
+        _, n, volume = swept_volume(model, p, surf, y, t0, t1, self.law, n_cells, self.band_width,
+                                    self.integration, n_output)
+        return volume / self.cell_volume(n_cells), n
 
     def cell_volume(self, n_cells):
         """Volume (m³) per metre of depth of one of ``n_cells`` cells: ``R0 Δx w``."""
@@ -249,7 +278,8 @@ class DiskWheel(Body):
             model = replace(self.model, radius_deviation=shape,
                             initial_lift=start_lift(self.model, shape, self.model.initial_angle))
             turn = wheel_turn(model)
-            gain = acceleration * depth_per_energy(model, shape.size, self.beta, self.band_width)
+            gain = acceleration * (1.0 if self.beta is None else
+                                   depth_per_energy(model, shape.size, self.beta, self.band_width))
             dT = acceleration * model.speed * (turn / self.updates_per_revolution) / self.life_distance
             self._coupled.clear()
             self._coupled.update(key=key, derived=(model, model.params(), turn, gain, dT))
@@ -258,14 +288,20 @@ class DiskWheel(Body):
     def segment(self, u, carry, acceleration, remaining, cost):
         model, p, turn, gain, dT = self._derived(carry["shape"], acceleration)
         segment = turn / self.updates_per_revolution
-        t = carry["seconds"]
-        energy = np.zeros(u.size)
-        y, n = advance(model, p, model.surface_for(u - u.mean()), carry["state"], t, t + segment, energy,
-                       self.integration)
+        t, surf = carry["seconds"], model.surface_for(u - u.mean())
+        if self.beta is not None:
+            energy = np.zeros(u.size)
+            y, n = advance(model, p, surf, carry["state"], t, t + segment, energy, self.integration)
+            increment, law = gain * energy, acceleration * self.beta * float(energy.sum())
+        else:
+            n_output = max(int(math.ceil(self.outputs_per_revolution / self.updates_per_revolution)), 2) + 1
+            y, n, volume = swept_volume(model, p, surf, carry["state"], t, t + segment, self.law, u.size,
+                                        self.band_width, self.integration, n_output)
+            increment, law = acceleration * volume / self.cell_volume(u.size), acceleration * float(volume.sum())
         cost["rhs_evaluations"] += n
         cost["revolutions"] += 1 / self.updates_per_revolution
         carry = {"shape": carry["shape"], "seconds": t + segment, "state": y}
-        return gain * energy, dT, False, acceleration * self.beta * float(energy.sum()), None, carry
+        return increment, dT, False, law, None, carry
 
     def record(self, u, seen, law_volume):
         return {"u": u.copy(), "law_volume": law_volume}
@@ -292,9 +328,9 @@ class DiskWheel(Body):
         return describe(xr.Dataset(data, coords=coords, attrs=attrs))
 
     def fingerprint_parts(self):
-        return (self.beta, self.band_width, self.life_distance, self.service, self.revolutions,
-                self.transient_revolutions, self.samples, self.updates_per_revolution, self.integration,
-                repr(self.model))
+        return (repr(self.law), self.band_width, self.life_distance, self.service, self.revolutions,
+                self.transient_revolutions, self.samples, self.updates_per_revolution, self.outputs_per_revolution,
+                self.integration, repr(self.model))
 
 
 def wear_intensity(model, u, beta, band_width, angle=0.0, turns=12, per_turn=20000, phase=0.0):

@@ -144,6 +144,8 @@ class Fourier:
         omega = model.speed * (1 + creepage) / model.radius
         circumference = 2 * np.pi * model.radius
         if driver == "frictional_power":
+            if getattr(law, "beta", None) is None:
+                raise ScenarioError("wear.law: the Fourier technique's frictional-power driver needs the energy law")
             depth_per_driver = law.beta / (circumference * band_width)
             steady = abs(model.traction_torque / model.radius * creepage) * model.speed
 

@@ -83,5 +83,3 @@ class Stepwise(Strategy, name="stepwise"):
         return {"strategy_description": "stepwise frozen geometry", "steps": state.steps,
                 "step_limit_m": self.step_limit, "step_limit_on": self.limit_on, "scheme": self.scheme}
 
-
-from railwear.longterm.disk_wheel import wear_intensity  # noqa: E402,F401  (old home, until the CLI moves)

@@ -5,7 +5,8 @@ profile (S1002) on the rail (UIC60), :func:`railwear.geometry.contact_table`. Ea
 wear surface (:class:`railwear.geometry.wear_surface.WearSurface`) over angle × lateral position
 ``s`` on the wheel profile (m, the profile coordinate, positive towards the field side). Between
 two output times of the dynamics the frictional energy ``E = ∫ P dt`` of a wheel (trapezoidal) is
-removed as the volume ``β E`` (energy law, ``railwear.wear.EnergyLaw.beta``, m³/J) under the Hertz
+removed as the volume ``β E`` (energy law, ``railwear.wear.EnergyLaw.beta``, m³/J; another
+:class:`~railwear.wear.WearLaw` gives its trapezoidal volume over the interval) under the Hertz
 ellipse of the contact table (semi-axes ``a`` along rolling, ``b`` across, interpolated at the
 wheelset's shift), centred at the contact position the table gives and swept along the
 circumference over the angle the wheel turned in that interval (at the axle's quasi-static spin
@@ -45,6 +46,7 @@ from railwear.errors import ScenarioError
 from railwear.geometry import contact_table, worn_profile
 from railwear.geometry.wear_surface import WearSurface, deposit_rectangles, ellipse_footprint
 from railwear.longterm.base import Body, stop_time, time_coordinates
+from railwear.wear import ContactSample, WearLaw
 
 WHEELS = ("left", "right")
 
@@ -102,7 +104,7 @@ class WheelsetWear:
 
     ``model`` a :class:`~railwear.dynamics.TableWheelsetModel` (its speed, suspension and friction
     are used; its table, start and phase are replaced), ``wheel`` and ``rail`` the
-    :class:`~railwear.geometry.Profile` s, ``beta`` (m³/J) the energy law's volume per frictional
+    :class:`~railwear.geometry.Profile` s, ``law`` the :class:`~railwear.wear.WearLaw`, ``beta`` (m³/J) its volume per frictional
     energy, ``life_distance`` (m) one unit of normed time, ``shifts`` (m) the lateral shifts of the
     contact tables, ``lateral_edges`` (m) the lateral cells of the wear surface on the wheel
     profile, ``n_angle`` its cells round the wheel, ``transient`` (s) run before wear is gathered,
@@ -113,7 +115,7 @@ class WheelsetWear:
     model: object
     wheel: object
     rail: object
-    beta: float
+    law: WearLaw
     life_distance: float
     shifts: tuple = field(default_factory=_default_shifts)
     lateral_edges: tuple = field(default_factory=_default_edges)
@@ -124,7 +126,9 @@ class WheelsetWear:
     footprint: str = "hertz"
 
     def __post_init__(self):
-        for name in ("beta", "life_distance", "output_rate"):
+        if not isinstance(self.law, WearLaw):
+            raise ScenarioError(f"law must be a railwear.wear.WearLaw, not {type(self.law).__name__}")
+        for name in ("life_distance", "output_rate"):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 raise ScenarioError(f"{name} must be finite and > 0, got {value}")
@@ -187,15 +191,32 @@ class WheelsetWear:
             cost["rhs"] += ds.attrs["rhs_evaluations"]
         return ds, end
 
+    @property
+    def beta(self):
+        """The energy law's volume per frictional energy (m³/J), ``None`` for another law."""
+        return self.law.beta
+
+    def contact(self, ds, table, wheel):
+        """The :class:`~railwear.wear.ContactSample` of ``wheel`` at the outputs of the run ``ds``:
+        sliding speed ``V √(ξ² + η²)``, patch area ``π a b`` of the table at the shift."""
+        shift = -ds.lateral_displacement.values
+        a, b = (np.interp(shift, table.y.values, table[v].sel(side=wheel).values) for v in ("a", "b"))
+        v = self.model.speed
+        slip = np.hypot(ds.longitudinal_creepage.sel(wheel=wheel).values, ds.lateral_creepage.sel(wheel=wheel).values)
+        force = ds.normal_force.sel(wheel=wheel).values
+        return ContactSample(ds.frictional_power.sel(wheel=wheel).values, force, v * slip, np.full(shift.size, v),
+                             np.where(force > 0, np.pi * a * b, 0.0))
+
     def settle(self, table, offset, cost):
         """State (or ``None``) after the transient from rest at ``offset`` (m)."""
         return self.run(table, self.transient, offset=offset, cost=cost)[1] if self.transient > 0 else None
 
     def deposit(self, surfaces, ds, table, phase, factor=1.0):
-        """Wear the two ``surfaces`` (left, right) by ``factor β`` times the frictional energy of the
-        run ``ds`` on ``table``, the wheel angle starting at ``phase`` (rad) and turning at
-        ``2 V / (r_L + r_R)`` (the axle's quasi-static spin, radii from the table). Returns the volume
-        added (m³), the law's volume ``factor β ∫ P dt`` (m³) and the end angle (rad)."""
+        """Wear the two ``surfaces`` (left, right) by ``factor`` times the law's volume over the run
+        ``ds`` on ``table`` (energy law: ``β ∫ P dt``; another law: the trapezoidal integral of its
+        rate at the outputs, the patch area ``π a b`` from the table), the wheel angle starting at
+        ``phase`` (rad) and turning at ``2 V / (r_L + r_R)`` (the axle's quasi-static spin, radii
+        from the table). Returns the volume added (m³), the law's volume (m³) and the end angle (rad)."""
         t = ds.time.values
         shift = -0.5 * (ds.lateral_displacement.values[1:] + ds.lateral_displacement.values[:-1])  # table y: right
         at = {(wheel, v): np.interp(shift, table.y.values, table[v].sel(side=wheel).values)
@@ -205,7 +226,11 @@ class WheelsetWear:
         added = law = 0.0
         for surface, wheel in zip(surfaces, WHEELS):
             power = ds.frictional_power.sel(wheel=wheel).values
-            volume = factor * self.beta * 0.5 * (power[1:] + power[:-1]) * np.diff(t)
+            if self.beta is not None:
+                volume = factor * self.beta * 0.5 * (power[1:] + power[:-1]) * np.diff(t)
+            else:
+                rate = self.law.volume_rate_of(self.contact(ds, table, wheel))
+                volume = factor * 0.5 * (rate[1:] + rate[:-1]) * np.diff(t)
             position = ds.contact_lateral_position.sel(wheel=wheel).values
             a, b = at[wheel, "a"], at[wheel, "b"]
             added += sweep_deposit(surface, volume, angle[:-1], angle[1:], 0.5 * (position[1:] + position[:-1]),
@@ -342,7 +367,7 @@ class Wheelset(Body):
         per_time = {
             "worn_depth": (("wheel", "lateral"), depth, "m", "depth removed, mean round the wheel"),
             "removed_volume": ((), records["volume"], "m3", "volume removed from both wheels"),
-            "law_volume": ((), records["law"], "m3", "volume of the wear law, beta times the frictional energy"),
+            "law_volume": ((), records["law"], "m3", "volume of the wear law over the run"),
             "contact_min": ((), records["cmin"], "m", "smallest contact lateral position seen in the step"),
             "contact_max": ((), records["cmax"], "m", "largest contact lateral position seen in the step"),
             "lateral_amplitude": ((), records["amplitude"], "m",
@@ -375,7 +400,7 @@ class Wheelset(Body):
             "angle": ("angle", p.new_surface().angle, {"units": "rad", "long_name": "angle round the wheel"}),
             "shift": ("shift", np.asarray(p.shifts), {"units": "m", "long_name": "lateral shift of the wheelset"}),
         })
-        attrs = dict(attrs, beta=p.beta, life_distance=p.life_distance, samples=self.samples,
+        attrs = dict(attrs, wear_law=p.law.name, life_distance=p.life_distance, samples=self.samples,
                      seconds_per_sample=self.seconds, update_seconds=self.update_seconds)
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
@@ -383,7 +408,7 @@ class Wheelset(Body):
         p = self.problem
         model = {f.name: getattr(p.model, f.name) for f in fields(p.model) if f.name != "table"}
         return (self.seconds, self.samples, self.update_seconds, repr(model), p.wheel.y, p.wheel.z, p.rail.y,
-                p.rail.z, (p.wheel.cant, p.rail.cant), p.beta, p.life_distance, np.asarray(p.shifts),
+                p.rail.z, (p.wheel.cant, p.rail.cant), repr(p.law), p.life_distance, np.asarray(p.shifts),
                 np.asarray(p.lateral_edges), p.n_angle, p.transient, p.offsets, p.output_rate, p.footprint, p.radius)
 
 

@@ -1,4 +1,5 @@
 """The evolution equation of the wheel radius (layer 2).
+from railwear import _numba_cache  # noqa: F401  (numba caches keyed on the sources)
 
 ``forms`` (wear rates and their registry), ``disk_contact`` (the rigid disk wheel's rate),
 ``equation`` (the problem), ``solver`` (ETDRK4 loop, guards, checkpoints), ``etdrk4`` (compiled

@@ -19,6 +19,9 @@ def wear_rate(scenario: Scenario):
         speed = None if w.table_speed_kmh is None else kmh_to_m_s(np.array(w.table_speed_kmh))
         return Table(np.array(w.curvature_m), np.array(w.rate_m), speed)
     wheel, contact, wear = scenario.wheel, scenario.contact, scenario.wear
+    if wear.law != "energy":
+        raise ScenarioError(f"wear.law: the disk_contact form of h is derived for the energy law, not {wear.law!r}; "
+                            "use law = \"energy\" or a cubic or table form")
     return DiskContact(
         wheel_radius=wheel.radius_m, unsprung_mass=wheel.unsprung_mass_kg,
         static_load=wheel.static_load_kN * KN,
@@ -115,10 +118,8 @@ def strategy(scenario: Scenario):
 
 
 def wear_law(scenario: Scenario):
-    """The energy wear law of ``[wear]``."""
-    from railwear.wear import EnergyLaw
-
-    return EnergyLaw(scenario.wear.specific_wear_ug_per_J * UG, scenario.wear.density_kg_m3)
+    """The :class:`~railwear.wear.WearLaw` of ``[wear]`` (``law`` and its fields)."""
+    return scenario.wear.build()
 
 
 def band_width(scenario: Scenario):
@@ -154,7 +155,7 @@ def disk_wheel_body(scenario: Scenario, speed=None):
     from railwear.longterm.disk_wheel import DiskWheel
 
     st, service = scenario.strategy, service_speeds(scenario)
-    return DiskWheel(disk_wheel_model(scenario, service.mean if speed is None else speed), wear_law(scenario).beta,
+    return DiskWheel(disk_wheel_model(scenario, service.mean if speed is None else speed), wear_law(scenario),
                      band_width(scenario), life_distance(scenario), service, revolutions=st.revolutions,
                      transient_revolutions=st.transient_revolutions, samples=st.samples,
                      updates_per_revolution=st.updates_per_revolution)
@@ -210,7 +211,7 @@ def wheelset_wear(scenario: Scenario):
                                lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=ws.yaw_stiffness_N_m_rad,
                                table=table, friction_coefficient=c.friction_coefficient)
     edges = np.round(np.linspace(ww.lateral_min_mm, ww.lateral_max_mm, ww.lateral_cells + 1) * MM, 12)
-    return WheelsetWear(model, wheel, rail, wear_law(scenario).beta, life_distance(scenario),
+    return WheelsetWear(model, wheel, rail, wear_law(scenario), life_distance(scenario),
                         shifts=tuple(shifts), lateral_edges=tuple(edges), n_angle=ww.angle_cells,
                         transient=ww.transient_s, offsets=(ww.offset_min_mm * MM, ww.offset_max_mm * MM),
                         output_rate=ww.output_rate_Hz, footprint=ww.footprint)

@@ -2,9 +2,9 @@
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, SerializeAsAny, field_validator, model_validator
 
-from railwear.units import kmh_to_m_s
+from railwear.units import GPA, UG, kmh_to_m_s
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
@@ -30,10 +30,87 @@ class Contact(_Section):
     load_scatter: Annotated[float, Field(ge=0.01, le=1)] = 0.2
 
 
-class Wear(_Section):
-    specific_wear_ug_per_J: Positive = 5.3
-    density_kg_m3: Positive = 7850.0
+class WearSection(_Section):
+    """``[wear]``: the wear law named by ``law`` with its own fields (a field of another law is an
+    error), and the lateral ``band_width_mm`` the disk wheel's tread wear spreads over (default the
+    Hertz ``2b``). A new law is one :class:`~railwear.wear.WearLaw` plus a section registered here
+    with :func:`wear_section`; its ``build()`` returns the law in SI units."""
+
+    law: str
     band_width_mm: Positive | None = None
+
+    def build(self):
+        """The :class:`~railwear.wear.WearLaw` of the section."""
+        raise NotImplementedError
+
+
+WEAR_SECTIONS: dict = {}
+
+
+def wear_section(cls):
+    """Register a ``[wear]`` section class under the default of its ``law`` field."""
+    WEAR_SECTIONS[cls.model_fields["law"].default] = cls
+    return cls
+
+
+@wear_section
+class Wear(WearSection):
+    """The energy law (paper eq. 2a): ``specific_wear_ug_per_J`` of steel removed per joule of
+    frictional energy (5.3 µg/J, Braghin et al. 2006's mild regime as used in the paper) at
+    ``density_kg_m3``."""
+
+    law: Literal["energy"] = "energy"
+    specific_wear_ug_per_J: Positive = 5.3
+    density_kg_m3: Annotated[float, Field(ge=1000, le=25000, allow_inf_nan=False)] = 7850.0
+
+    def build(self):
+        from railwear.wear import EnergyLaw
+
+        return EnergyLaw(self.specific_wear_ug_per_J * UG, self.density_kg_m3)
+
+
+@wear_section
+class ArchardWear(WearSection):
+    """Archard's law ``V = k N s / H``: ``coefficient`` k (1; 1e-4 mild to 1e-2 severe for
+    rail steels) and ``hardness_GPa`` H (3 GPa, wheel steel)."""
+
+    law: Literal["archard"] = "archard"
+    coefficient: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = 1e-4
+    hardness_GPa: Annotated[float, Field(gt=0, le=20, allow_inf_nan=False)] = 3.0
+
+    def build(self):
+        from railwear.wear import Archard
+
+        return Archard(self.coefficient, self.hardness_GPa * GPA)
+
+
+@wear_section
+class USFDWear(WearSection):
+    """The USFD Tγ/A wear function (Braghin, Lewis, Dwyer-Joyce & Bruni 2006): ``convention``
+    ``"continuous"`` or ``"as_printed"`` (see :class:`railwear.wear.USFD`), at ``density_kg_m3``."""
+
+    law: Literal["usfd"] = "usfd"
+    convention: Literal["continuous", "as_printed"] = "continuous"
+    density_kg_m3: Annotated[float, Field(ge=1000, le=25000, allow_inf_nan=False)] = 7850.0
+
+    def build(self):
+        from railwear.wear import USFD
+
+        return USFD(self.convention, self.density_kg_m3)
+
+
+def _section_of(registry, key, default, what):
+    """A before-validator: a TOML table validated by the class registered under its ``key``."""
+    def pick(value):
+        if isinstance(value, BaseModel):
+            return value
+        if not isinstance(value, dict):
+            raise ValueError(f"must be a table, not {type(value).__name__}")
+        name = value.get(key, default)
+        if name not in registry:
+            raise ValueError(f"{key}: unknown {what} {name!r}; known: {', '.join(sorted(registry))}")
+        return registry[name].model_validate(value)
+    return pick
 
 
 class Operation(_Section):
@@ -281,7 +358,7 @@ class Scenario(_Section):
     description: str = ""
     wheel: Wheel = Wheel()
     contact: Contact = Contact()
-    wear: Wear = Wear()
+    wear: SerializeAsAny[WearSection] = Wear()
     operation: Operation = Operation(speed_kmh=220.0)
     wear_rate: WearRate = WearRate()
     solver: Solver = Solver()
@@ -291,3 +368,5 @@ class Scenario(_Section):
     disk_wheel: DiskWheel = DiskWheel()
     wheelset: Wheelset = Wheelset()
     wheelset_wear: WheelsetWear = WheelsetWear()
+
+    _wear = field_validator("wear", mode="before")(_section_of(WEAR_SECTIONS, "law", "energy", "wear law"))

@@ -8,14 +8,56 @@
 - :class:`InternalStateLaw`: the general form of paper eq. 2, ``u' = U(t, π, u, z)``,
   ``z' = Z(t, π, u, z)``, on the cells of a wear surface.
 Rates are positive for material removed; depth ``u`` of the paper falls by them.
+
+Every law a body can wear with is a :class:`WearLaw` registered by name: ``volume_rate_of``
+takes a :class:`ContactSample` (what the dynamics know of the contact at each output time) and
+returns m³/s. Laws proportional to the frictional power say so by their ``beta`` (m³/J), and the
+bodies then take the compiled path that sweeps the frictional energy onto the cells.
 """
 
+from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 
 from railwear.errors import ScenarioError
+from railwear.units import MM2, UG
+
+
+@dataclass(frozen=True)
+class ContactSample:
+    """The contact at a series of instants (arrays of one shape, SI): ``frictional_power`` (W),
+    ``normal_force`` (N), ``sliding_speed`` (m/s, the creepage's magnitude times the speed),
+    ``speed`` (m/s, rolling) and ``patch_area`` (m², 0 out of contact)."""
+
+    frictional_power: np.ndarray
+    normal_force: np.ndarray
+    sliding_speed: np.ndarray
+    speed: np.ndarray
+    patch_area: np.ndarray
+
+
+class WearLaw(ABC):
+    """A wear law; subclasses register with ``class X(WearLaw, name="x")``."""
+
+    registry: dict = {}
+    name: str = ""
+
+    def __init_subclass__(cls, name=None, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if name is not None:
+            cls.name = name
+            WearLaw.registry[name] = cls
+
+    @abstractmethod
+    def volume_rate_of(self, contact: ContactSample):
+        """m³/s removed at each instant of ``contact``."""
+
+    @property
+    def beta(self):
+        """Volume per frictional energy (m³/J) of a law proportional to the frictional power, else ``None``."""
+        return None
 
 STEEL_DENSITY = 7850.0  # kg/m³
 
@@ -26,7 +68,7 @@ def _positive(name, value):
 
 
 @dataclass(frozen=True)
-class EnergyLaw:
+class EnergyLaw(WearLaw, name="energy"):
     """Removed mass ``k_e π`` per second: ``specific_wear`` k_e in kg/J, ``density`` in kg/m³."""
 
     specific_wear: float = 5.3e-9
@@ -45,9 +87,12 @@ class EnergyLaw:
         """m³/s for frictional power ``power`` (W)."""
         return self.beta * np.asarray(power, float)
 
+    def volume_rate_of(self, contact):
+        return self.volume_rate(contact.frictional_power)
+
 
 @dataclass(frozen=True)
-class Archard:
+class Archard(WearLaw, name="archard"):
     """``V = k N s / H``: ``coefficient`` k (1), ``hardness`` H (Pa); ``s`` the sliding distance."""
 
     coefficient: float = 1e-4
@@ -61,9 +106,12 @@ class Archard:
         """m³/s for the normal force (N) and the sliding speed ``|creepage| v`` (m/s)."""
         return self.coefficient * np.asarray(normal_force, float) * np.abs(sliding_speed) / self.hardness
 
+    def volume_rate_of(self, contact):
+        return self.volume_rate(np.maximum(contact.normal_force, 0.0), contact.sliding_speed)
+
 
 @dataclass(frozen=True)
-class USFD:
+class USFD(WearLaw, name="usfd"):
     """Wear rate ``K`` (µg per metre rolled per mm² of contact) from ``Tγ/A`` (N/mm²).
 
     ``K = 5.3 Tγ/A`` below 10.4, ``55.0`` up to 77.2, ``61.9 Tγ/A - 4778.7`` above. As printed
@@ -103,9 +151,17 @@ class USFD:
         """m³/s for frictional power (W), rolling speed (m/s) and contact area (m²)."""
         power, speed, area = (np.asarray(v, float) for v in (power, speed, patch_area))
         t_gamma = power / speed  # N
-        area_mm2 = area * 1e6
-        mass_per_metre = self.rate(t_gamma / area_mm2) * area_mm2 * 1e-9  # kg/m
+        area_mm2 = area / MM2
+        mass_per_metre = self.rate(t_gamma / area_mm2) * area_mm2 * UG  # kg/m
         return mass_per_metre * speed / self.density
+
+    def volume_rate_of(self, contact):
+        area = np.asarray(contact.patch_area, float)
+        inside = area > 0
+        rate = np.zeros(np.broadcast(area, contact.frictional_power).shape)
+        power, speed = (np.broadcast_to(v, rate.shape) for v in (contact.frictional_power, contact.speed))
+        rate[inside] = self.volume_rate(power[inside], speed[inside], area[inside])
+        return rate
 
 
 @dataclass(frozen=True)

@@ -5,11 +5,13 @@ import numpy as np
 import pytest
 
 from railwear.errors import ScenarioError
+from railwear.wear import EnergyLaw
 from railwear.longterm.direct import Direct
 from railwear.longterm.disk_wheel import DiskWheel, ServiceSpeeds
 from railwear.longterm.stepwise import Stepwise
 
-WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
+BETA = 5.3e-9 / 7850.0  # m³/J, the energy law of EnergyLaw(5.3e-9, 7850)
+WEAR = {"law": EnergyLaw(5.3e-9, 7850.0), "band_width": 0.01, "life_distance": 5e7}
 
 
 def shape_error(u, ref):

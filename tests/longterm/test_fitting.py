@@ -5,12 +5,14 @@ import pytest
 import xarray as xr
 
 from railwear.errors import ScenarioError
+from railwear.wear import EnergyLaw
 from railwear.geometry import roundness
 from railwear.longterm.fitting import curvature, fit_h, gather
 from railwear.longterm.disk_wheel import DiskWheel, ServiceSpeeds
 from railwear.pde import Table
 
-WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
+BETA = 5.3e-9 / 7850.0  # m³/J, the energy law of EnergyLaw(5.3e-9, 7850)
+WEAR = {"law": EnergyLaw(5.3e-9, 7850.0), "band_width": 0.01, "life_distance": 5e7}
 
 
 def synthetic(h, speeds, noise, rng, cells=4000, drift=(0.0, 0.0), dispersion=(0.0, 0.0)):
@@ -97,7 +99,7 @@ def test_fitted_odd_terms_are_the_fourier_phase_of_the_disk_wheel():
     model = build.disk_wheel_model(scenario, v)
     rng = np.random.default_rng(0)
     geometries = [roundness.random_perturbation(points, rms, 2, 12, rng) for rms in (5e-6, 10e-6)]
-    stats = gather(lambda s: DiskWheel(model, law.beta, band, life, ServiceSpeeds((s,)), revolutions=4,
+    stats = gather(lambda s: DiskWheel(model, law, band, life, ServiceSpeeds((s,)), revolutions=4,
                                             transient_revolutions=4, samples=2), [v], geometries, rng)
     fit = fit_h(stats, degree=3, bins=16)
     power = sum(np.abs(np.fft.rfft(g))[1 : points // 2] ** 2 for g in geometries)

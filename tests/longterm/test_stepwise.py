@@ -4,10 +4,12 @@ import numpy as np
 import pytest
 
 from railwear.errors import ScenarioError
+from railwear.wear import EnergyLaw
 from railwear.longterm.disk_wheel import DiskWheel, ServiceSpeeds
 from railwear.longterm.stepwise import Stepwise
 
-WEAR = {"beta": 5.3e-9 / 7850.0, "band_width": 0.01, "life_distance": 5e7}
+BETA = 5.3e-9 / 7850.0  # m³/J, the energy law of EnergyLaw(5.3e-9, 7850)
+WEAR = {"law": EnergyLaw(5.3e-9, 7850.0), "band_width": 0.01, "life_distance": 5e7}
 
 
 def frozen(model, **kw):
@@ -105,7 +107,7 @@ def test_round_wheel_wears_at_the_steady_frictional_power(wheel_220):
     rate, error, _ = f.statistics(np.zeros(64), np.random.default_rng(0))
     m = wheel_220
     power_per_metre = abs(m.traction_torque / m.radius * m.steady_creepage())
-    expected = WEAR["beta"] * power_per_metre / (2 * np.pi * m.radius * WEAR["band_width"]) * WEAR["life_distance"]
+    expected = BETA * power_per_metre / (2 * np.pi * m.radius * WEAR["band_width"]) * WEAR["life_distance"]
     np.testing.assert_allclose(rate, expected, rtol=1e-5)
     assert np.all(error < 1e-5 * expected)
 
@@ -149,7 +151,7 @@ def test_wear_intensity_teeth_sum_to_the_cell_wear(wheel_220, rough_u0):
     turns, dx = 8, 2 * np.pi / rough_u0.size
     per_point = []
     for k in range(8):
-        ds = wear_intensity(wheel_220, rough_u0, WEAR["beta"], WEAR["band_width"], angle=(k + 0.5) / 8 * dx - dx / 2,
+        ds = wear_intensity(wheel_220, rough_u0, BETA, WEAR["band_width"], angle=(k + 0.5) / 8 * dx - dx / 2,
                             turns=turns)
         assert np.all(ds.wear_intensity.values >= 0)
         teeth = ds.tooth_depth.values[4:turns - 1]

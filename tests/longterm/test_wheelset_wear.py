@@ -27,7 +27,7 @@ def profiles():
 def make(profiles, speed, **options):
     wheel, rail, table = profiles
     model = TableWheelsetModel(speed=speed, **SUSPENSION, table=table, friction_coefficient=0.3)
-    return WheelsetWear(model, wheel, rail, EnergyLaw().beta, 1e6, **{**SMALL, **options})
+    return WheelsetWear(model, wheel, rail, EnergyLaw(), 1e6, **{**SMALL, **options})
 
 
 def WheelsetStepwise(p, step_limit, seconds=2.0, samples=4, seed=0):

@@ -1,0 +1,178 @@
+"""Wear laws through the bodies and strategies: the contact a law reads, its integral, the
+energy law's two paths, Archard and USFD from scenarios, and a law plugged in from outside."""
+
+from dataclasses import dataclass, replace
+from typing import Literal
+
+import numpy as np
+import pytest
+
+import railwear
+from railwear.errors import ScenarioError
+from railwear.longterm.disk_wheel import DiskWheel, long_term_integrator, swept_volume, wheel_turn
+from railwear.scenario import load_scenario, parse_scenario, to_toml
+from railwear.scenario.schema import WEAR_SECTIONS, Positive, WearSection, wear_section
+from railwear.units import MM3
+from railwear.wear import USFD, Archard, EnergyLaw, WearLaw
+
+BAND = 0.01  # m
+
+
+@dataclass(frozen=True)
+class PlainEnergy(WearLaw):
+    """The energy law without its ``beta``: the bodies take the path of any other law."""
+
+    beta_value: float
+
+    def volume_rate_of(self, contact):
+        return self.beta_value * contact.frictional_power
+
+
+def test_the_round_wheel_wears_by_each_laws_closed_form(wheel_220):
+    """Steady rolling on the round wheel: normal force W, creepage ξ0, power F ξ0 V with F = T/R0
+    and the Hertz patch π a b; over two turns the cells receive the law's rate times the time,
+    evenly round the wheel but for the cells under the patch where it starts and ends."""
+    m = replace(wheel_220, radius_deviation=np.zeros(64))
+    p, surf, y = m.params(), m.surface(), m.initial_state()
+    duration = 2 * wheel_turn(m)
+    xi, force = m.steady_creepage(), m.traction_torque / m.radius
+    area = np.pi * m.patch_half_length * BAND / 2
+    usfd = USFD()
+    expected = {
+        Archard(1e-4, 3e9): 1e-4 * m.static_load * xi * m.speed / 3e9,
+        usfd: usfd.volume_rate(force * xi * m.speed, m.speed, area),
+        PlainEnergy(EnergyLaw().beta): EnergyLaw().beta * force * xi * m.speed,
+    }
+    for law, rate in expected.items():
+        _, _, cells = swept_volume(m, p, surf, y, 0.0, duration, law, 64, BAND, long_term_integrator(), 4001)
+        assert cells.sum() == pytest.approx(rate * duration, rel=1e-7), law
+        np.testing.assert_allclose(cells[2:-2], cells[2:-2].mean(), rtol=1e-6)
+
+
+def test_the_any_law_path_converges_at_second_order_and_meets_the_compiled_energy_sweep(wheel_220, rough_u0):
+    """The energy law through the any-law path (each output interval's trapezoidal volume swept as
+    the patch passes) converges at second order in the output interval (measured against 32000
+    outputs a turn: 1.3e-3, 7.8e-5, 4.5e-6 of the largest rate at 500, 2000, 8000) to the rates
+    of the compiled energy sweep, which it meets within 3.7e-4 (the sweep's own error over the
+    integrator's steps); the totals agree to 2e-6."""
+    fast = DiskWheel(wheel_220, EnergyLaw(), BAND, 5e7, samples=2)
+    rate, _, _ = fast.statistics(rough_u0, np.random.default_rng(0))
+    slow = {n: replace(fast, law=PlainEnergy(EnergyLaw().beta), outputs_per_revolution=n).statistics(
+        rough_u0, np.random.default_rng(0))[0] for n in (500, 2000, 8000, 32000)}
+    ref = slow[32000]
+    errors = [np.max(np.abs(slow[n] - ref)) / np.max(np.abs(ref)) for n in (500, 2000, 8000)]
+    assert errors[0] > 10 * errors[1] > 100 * errors[2] > 0
+    assert np.max(np.abs(rate - ref)) / np.max(np.abs(ref)) < 1e-3
+    assert ref.sum() == pytest.approx(rate.sum(), rel=2e-6)
+
+
+def _edited(name, wear, solver=None, strategy=None):
+    """Built-in ``name`` with a new ``[wear]`` section and solver / strategy fields."""
+    sc = load_scenario(name)
+    data = sc.model_dump(mode="json", exclude_none=True)
+    data["wear"] = wear
+    data["solver"].update(solver or {})
+    data["strategy"].update(strategy or {})
+    import tomli_w
+
+    return parse_scenario(tomli_w.dumps(data), source=name)
+
+
+LAWS = [{"law": "archard", "coefficient": 2e-3}, {"law": "usfd"}]
+
+
+@pytest.mark.parametrize("wear", LAWS, ids=["archard", "usfd"])
+@pytest.mark.parametrize("name, solver", [("stepwise", {"depth_limit_mm": 0.01}),
+                                          ("direct", {"depth_limit_mm": 0.01, "t_end": 0.004})])
+def test_disk_wheel_runs_each_law_from_a_scenario_and_removes_its_volume(name, solver, wear):
+    """The stepwise and direct strategies on the disk wheel with Archard or USFD from ``[wear]``:
+    the volume gone from the tread equals the law's volume at every output, to round-off."""
+    ds = railwear.run(_edited(name, wear, solver))
+    assert ds.attrs["strategy"] == name and "law = \"" + wear["law"] + "\"" in ds.attrs["scenario"]
+    np.testing.assert_allclose(ds.removed_volume.values, ds.law_volume.values, rtol=1e-12, atol=0)
+    assert ds.removed_volume.values[-1] > 0
+
+
+@pytest.mark.parametrize("wear", LAWS, ids=["archard", "usfd"])
+@pytest.mark.parametrize("kind", ["stepwise", "direct"])
+def test_wheelset_runs_each_law_from_a_scenario_and_removes_its_volume(kind, wear):
+    strategy = {"kind": kind, "acceleration_factor": 2e5} if kind == "direct" else {"kind": kind}
+    ds = railwear.run(_edited("wheelset-wear", wear, {"t_end": 0.002}, strategy))
+    assert ds.attrs["wear_law"] == wear["law"]
+    np.testing.assert_allclose(ds.removed_volume.values, ds.law_volume.values, rtol=1e-12, atol=0)
+    assert ds.removed_volume.values[-1] > 0
+
+
+def test_a_wheelset_run_deposits_the_trapezoidal_integral_of_the_law(profiles_problem):
+    """One run: the volume put on both wheels is the trapezoidal integral of Archard's rate at the
+    outputs (normal force, sliding speed V |(ξ, η)|), to round-off."""
+    p = replace(profiles_problem, law=Archard(1e-3, 3e9))
+    table = p.model.table
+    ds, _ = p.run(table, 1.0, offset=2e-3)
+    added, law, _ = p.deposit((p.new_surface(), p.new_surface()), ds, table, phase=1.0)
+    slip = np.hypot(ds.longitudinal_creepage.values, ds.lateral_creepage.values) * p.model.speed
+    rate = 1e-3 * ds.normal_force.values * slip / 3e9
+    expected = float(np.sum(0.5 * (rate[1:] + rate[:-1]) * np.diff(ds.time.values)[:, None]))
+    assert law == pytest.approx(expected, rel=1e-12) and added == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.fixture(scope="module")
+def profiles_problem():
+    from railwear.scenario import build
+
+    return build.wheelset_wear(load_scenario("wheelset-wear"))
+
+
+def test_a_law_without_its_fields_or_of_another_law_is_refused_in_one_line():
+    for wear, field in (({"law": "archard", "specific_wear_ug_per_J": 5.3}, "wear.specific_wear_ug_per_J"),
+                        ({"law": "usfd", "convention": "smooth"}, "wear.convention"),
+                        ({"law": "none"}, "unknown wear law")):
+        with pytest.raises(ScenarioError, match=field) as err:
+            _edited("stepwise", wear)
+        assert "\n" not in str(err.value)
+    with pytest.raises(ScenarioError, match="wear.law"):
+        railwear.run(_edited("polygonalisation", {"law": "archard"}))
+
+
+@pytest.fixture
+def constant_law():
+    """A new wear law from outside the package: one class and its scenario section."""
+
+    @dataclass(frozen=True)
+    class ConstantLaw(WearLaw, name="constant"):
+        rate: float  # m³/s while in contact
+
+        def volume_rate_of(self, contact):
+            return np.where(contact.normal_force > 0, self.rate, 0.0)
+
+    @wear_section
+    class ConstantWear(WearSection):
+        law: Literal["constant"] = "constant"
+        rate_mm3_per_s: Positive = 1e-3
+
+        def build(self):
+            return ConstantLaw(self.rate_mm3_per_s * MM3)
+
+    yield ConstantWear
+    WearLaw.registry.pop("constant")
+    WEAR_SECTIONS.pop("constant")
+
+
+def test_a_new_law_is_one_class_and_its_scenario_section(constant_law):
+    """``[wear] law = "constant"`` on the round wheel at one speed: the tread loses the law's
+    rate times the time in service, evenly, and the scenario round-trips through TOML."""
+    sc = _edited("stepwise", {"law": "constant", "rate_mm3_per_s": 2e-3}, {"depth_limit_mm": 0.005},
+                 {"step_limit_um": 2.0})
+    data = sc.model_dump(mode="json", exclude_none=True)
+    data["initial"] = {"kind": "round"}
+    data["service"] = {"speed_kmh": [70.0], "seed": 0}
+    import tomli_w
+
+    sc = parse_scenario(tomli_w.dumps(data))
+    assert parse_scenario(to_toml(sc)) == sc
+    ds = railwear.run(sc)
+    seconds = float(ds.stop_time) * sc.operation.life_distance_km * 1e3 / (70 / 3.6)
+    assert float(ds.removed_volume[-1]) == pytest.approx(2e-3 * MM3 * seconds, rel=1e-9)
+    worn = ds.u.values[0] - ds.u.values[-1]
+    np.testing.assert_allclose(worn, worn.mean(), rtol=1e-6)
+    assert float(ds.removed_depth[-1]) == pytest.approx(5e-6, rel=1e-9)
