@@ -1,11 +1,12 @@
 """The evolution equation of the wheel radius (layer 2).
-from railwear import _numba_cache  # noqa: F401  (numba caches keyed on the sources)
 
 ``forms`` (wear rates and their registry), ``disk_contact`` (the rigid disk wheel's rate),
 ``equation`` (the problem), ``solver`` (ETDRK4 loop, guards, checkpoints), ``etdrk4`` (compiled
 core), ``evolution`` (:func:`solve_evolution`), ``linear`` (dispersion relation), ``analysis``
 (stability maps).
 """
+
+from railwear import _numba_cache  # noqa: F401  (numba caches keyed on the sources)
 
 from railwear.pde.forms import (
     BuiltinRate, CallableRate, Cubic, Pointwise, Table, as_wear_rate, rate_names, register_rate, wear_rate,
