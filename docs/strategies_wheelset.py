@@ -163,7 +163,7 @@ def wheelset_section(quick: bool) -> str:
     for regime, (speed, out, _) in results.items():
         ref = out[reference][0]
         for label, (ds, wall) in out.items():
-            steps = ds.attrs.get("steps", ds.attrs.get("updates"))
+            steps = ds.attrs["steps"]
             difference = "reference" if label == reference else f"{relative_l2(ds, ref):.3f}"
             closure = float(ds.removed_volume[-1] / ds.law_volume[-1]) - 1
             lines.append(f"| {speed:g} m/s | {label} | {difference} | {steps} | {float(ds.cost_seconds):.1f} | "

@@ -117,7 +117,7 @@ def forecast_file(measured, scenario=None, limit=0.3 * MM, samples=None, seed=No
     service = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
     if service:
         try:
-            sc = sc.model_validate({**sc.model_dump(), "service": {**sc.service.model_dump(), **service}})
+            sc = sc.model_validate({**sc.applicable(mode="python", exclude_none=False), "service": {**sc.service.model_dump(), **service}})
         except ValidationError as e:
             first = e.errors()[0]
             raise ScenarioError(f"{first['loc'][-1]}: {first['msg']}") from None

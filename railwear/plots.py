@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 
 from railwear.results import _atomic
-from railwear.units import m_s_to_kmh
+from railwear.units import HOUR, MM, MN, PM, UM, m_s_to_kmh
 
 
 def _figure(width, height, rows=1):
@@ -37,9 +37,9 @@ def profiles(ds):
     deg = np.degrees(ds.angle.values)
     for i, (label, d) in enumerate(_rows(ds)):
         colour = f"C{i % 10}"
-        ax.plot(deg, d.u.isel(time=0).values * 1e6, color=colour, ls="--", lw=1,
+        ax.plot(deg, d.u.isel(time=0).values / UM, color=colour, ls="--", lw=1,
                 label=f"{label}, start" if i == 0 or len(_rows(ds)) < 5 else None)
-        ax.plot(deg, d.u.isel(time=-1).values * 1e6, color=colour, lw=1.5, label=f"{label}, end")
+        ax.plot(deg, d.u.isel(time=-1).values / UM, color=colour, lw=1.5, label=f"{label}, end")
     ax.set(xlabel="angle (deg)", ylabel="radius deviation u (µm)", xlim=(0, 360),
            title=_title(ds, "initial (dashed) and final radius"))
     ax.legend(fontsize="small")
@@ -51,7 +51,7 @@ def evolution(ds):
     rows = _rows(ds)
     fig, axes = _figure(7, min(2.2 + 2.3 * len(rows), 12), len(rows))
     for ax, (label, d) in zip(axes, rows):
-        dev = (d.u - d.u.mean("angle")).values * 1e6
+        dev = (d.u - d.u.mean("angle")).values / UM
         distance = ds.distance.values if "distance" in ds.coords else ds.time.values
         mesh = ax.pcolormesh(np.degrees(ds.angle.values), distance, dev, shading="auto", cmap="RdBu_r",
                              vmin=-np.max(np.abs(dev)), vmax=np.max(np.abs(dev)))
@@ -69,7 +69,7 @@ def spectrum(ds):
     top = min(40, orders.size)
     for i, (label, d) in enumerate(_rows(ds)):
         with np.errstate(divide="ignore"):
-            start = 20 * np.log10(d.amplitude_initial.values[:top] / np.sqrt(2) / 1e-6)
+            start = 20 * np.log10(d.amplitude_initial.values[:top] / np.sqrt(2) / UM)
         ax.plot(orders[:top], start, color=f"C{i % 10}", ls="--", marker=".")
         ax.plot(orders[:top], d.roughness_level.values[:top], color=f"C{i % 10}", marker="o", label=label)
     ax.set(xlabel="polygon order", ylabel="roughness level (dB re 1 µm)",
@@ -90,7 +90,7 @@ def stability(map_ds):
         ax.contour(speed, map_ds.order.values, rate, levels=[0.0], colors="k", linewidths=1)
     fig.colorbar(mesh, ax=ax, label="growth rate (per unit normed life)")
     ax.set(xlabel="speed (km/h)", ylabel="polygon order",
-           title=f"stability map (crest amplitude {map_ds.attrs.get('amplitude', 0) * 1e6:g} µm)")
+           title=f"stability map (crest amplitude {map_ds.attrs.get('amplitude', 0) / UM:g} µm)")
     return fig
 
 
@@ -101,7 +101,7 @@ def worn_profile(ds):
     picks = np.unique(np.round(np.linspace(0, ds.sizes["time"] - 1, min(5, ds.sizes["time"]))).astype(int))
     for ax, wheel in zip(axes, ds.wheel.values):
         for i, k in enumerate(picks):
-            ax.plot(ds.lateral.values * 1e3, ds.worn_depth.sel(wheel=wheel).values[k] * 1e6, color=f"C{i % 10}",
+            ax.plot(ds.lateral.values / MM, ds.worn_depth.sel(wheel=wheel).values[k] / UM, color=f"C{i % 10}",
                     label=f"{float(ds.distance[k]):.0f} km")
         ax.set(ylabel="worn depth (µm)", title=f"{wheel} wheel")
         ax.legend(fontsize="small")
@@ -117,9 +117,9 @@ def angular_pattern(ds):
     edges = np.degrees(np.linspace(0, 2 * np.pi, n + 1))
     lateral = ds.lateral.values
     step = lateral[1] - lateral[0]
-    lateral_edges = np.concatenate([lateral - step / 2, [lateral[-1] + step / 2]]) * 1e3
+    lateral_edges = np.concatenate([lateral - step / 2, [lateral[-1] + step / 2]]) / MM
     for ax, wheel in zip(axes, ds.wheel.values):
-        mesh = ax.pcolormesh(edges, lateral_edges, ds.surface_depth.sel(wheel=wheel).values.T * 1e6, cmap="viridis")
+        mesh = ax.pcolormesh(edges, lateral_edges, ds.surface_depth.sel(wheel=wheel).values.T / UM, cmap="viridis")
         fig.colorbar(mesh, ax=ax, label="worn depth (µm)")
         ax.set(ylabel="lateral (mm)", title=f"{wheel} wheel")
     axes[-1].set_xlabel("angle round the wheel (deg)")
@@ -186,10 +186,10 @@ def sweep(ds):
 def forecast(ds):
     """Peak-to-peak deviation over distance for every sample, the limit, and the crossing band."""
     fig, (ax, hist) = _figure(7, 6.5, 2)
-    limit = ds.attrs["limit_m"] * 1e6
+    limit = ds.attrs["limit_m"] / UM
     distance = ds.distance.values
     for p in ds.peak_to_peak.values:
-        ax.plot(distance, p * 1e6, color="C0", lw=0.6, alpha=0.4)
+        ax.plot(distance, p / UM, color="C0", lw=0.6, alpha=0.4)
     ax.axhline(limit, color="C3", lw=1.5, label=f"limit {limit:g} µm")
     for key, style in (("crossing_p05_km", ":"), ("crossing_median_km", "-"), ("crossing_p95_km", ":")):
         if np.isfinite(ds.attrs[key]):
@@ -212,7 +212,7 @@ def hunting_map(map_ds):
     finite = np.where(np.isfinite(speed), speed, np.nan)
     levels = np.linspace(np.nanmin(finite), min(np.nanmax(finite), 3 * np.nanmin(finite) + 500), 15) \
         if np.isfinite(finite).any() else 10
-    mesh = ax.contourf(map_ds.conicity.values, map_ds.yaw_stiffness.values / 1e6, finite, levels=levels,
+    mesh = ax.contourf(map_ds.conicity.values, map_ds.yaw_stiffness.values / MN, finite, levels=levels,
                        cmap="viridis", extend="max")
     fig.colorbar(mesh, ax=ax, label="critical speed (km/h)")
     ax.set(xlabel="equivalent conicity", ylabel="yaw stiffness (MN m/rad)",
@@ -226,7 +226,7 @@ def lateral_motion(ds):
     fig, axes = _figure(7, min(1.6 + 1.8 * speeds.size, 12), speeds.size)
     for ax, v in zip(axes, speeds):
         d = ds.sel(speed=v) if ds.speed.ndim else ds
-        ax.plot(d.time.values * v, d.lateral_displacement.values * 1e3, lw=0.8)
+        ax.plot(d.time.values * v, d.lateral_displacement.values / MM, lw=0.8)
         ax.set(ylabel="y (mm)", title=f"{m_s_to_kmh(v):g} km/h")
     axes[-1].set_xlabel("distance (m)")
     vc = ds.attrs.get("linear_critical_speed_kmh")
@@ -254,7 +254,7 @@ def contact_path(ds):
 def bifurcation(ds):
     """Limit-cycle amplitude against speed from the ramp down, with the Hopf point."""
     fig, (ax,) = _figure(7, 4)
-    ax.plot(m_s_to_kmh(ds.speed.values), ds.amplitude.values * 1e3, "o-")
+    ax.plot(m_s_to_kmh(ds.speed.values), ds.amplitude.values / MM, "o-")
     hopf = ds.attrs.get("hopf_speed")
     if hopf:
         ax.axvline(m_s_to_kmh(hopf), color="C3", ls="--", label=f"Hopf point {m_s_to_kmh(hopf):.1f} km/h")
@@ -269,8 +269,8 @@ def bifurcation(ds):
 def wear_intensity(ds):
     """Wear intensity against time at a fixed position on the wheel (paper Fig. 7)."""
     fig, (ax,) = _figure(7, 3.5)
-    ax.plot(ds.time.values, ds.wear_intensity.values * 1e6 * 3600, lw=0.8)
-    teeth = ds.tooth_depth.values * 1e12
+    ax.plot(ds.time.values, ds.wear_intensity.values / UM * HOUR, lw=0.8)
+    teeth = ds.tooth_depth.values / PM
     ax.set(xlabel="time (s)", ylabel="depth rate (µm/h)",
            title=f"wear intensity at {np.degrees(ds.attrs['position_rad']):g} deg over {teeth.size} passes "
                  f"({m_s_to_kmh(float(ds.attrs['speed'])):g} km/h); teeth {teeth.min():.3g}-{teeth.max():.3g} pm each")
@@ -280,15 +280,15 @@ def wear_intensity(ds):
 def fitted_relation(stats, fit):
     """Mean wear rate against the local curvature with the fitted ``h`` (paper Fig. 8)."""
     fig, (ax,) = _figure(7, 4.5)
-    life = 1e3  # m per normed life -> mm
+    life = 1 / MM  # m per normed life -> mm
     for i, v in enumerate(np.atleast_1d(stats.speed.values)):
         colour = f"C{i % 10}"
         s = stats.curvature.values[i].ravel()
-        ax.scatter(s * 1e3, stats.rate.values[i].ravel() * life, s=3, alpha=0.25, color=colour)
-        ax.errorbar(fit.bin_curvature[i] * 1e3, fit.bin_rate[i] * life, yerr=fit.bin_error[i] * life, fmt="o",
+        ax.scatter(s / MM, stats.rate.values[i].ravel() * life, s=3, alpha=0.25, color=colour)
+        ax.errorbar(fit.bin_curvature[i] / MM, fit.bin_rate[i] * life, yerr=fit.bin_error[i] * life, fmt="o",
                     ms=4, color=colour, label=f"{m_s_to_kmh(v):g} km/h, bin means (reduced chi² {fit.chi2[i]:.2f})")
         grid = np.linspace(s.min(), s.max(), 200)
-        ax.plot(grid * 1e3, fit(grid, i) * life, color=colour, lw=1.5)
+        ax.plot(grid / MM, fit(grid, i) * life, color=colour, lw=1.5)
     ax.set(xlabel="curvature u_xx (mm/rad²)", ylabel="u_T (mm per life)",
            title="frozen-geometry wear against the local curvature, with the fitted h")
     ax.legend(fontsize="small")
@@ -300,7 +300,7 @@ def wear_surface(surface, title="wear surface"):
     (paper Fig. 4)."""
     fig, (ax,) = _figure(7, 3.5)
     edges_x = np.degrees(np.linspace(0, 2 * np.pi, surface.n_angle + 1))
-    mesh = ax.pcolormesh(edges_x, surface.lateral_edges * 1e3, surface.depth.T * 1e6, cmap="viridis",
+    mesh = ax.pcolormesh(edges_x, surface.lateral_edges / MM, surface.depth.T / UM, cmap="viridis",
                          edgecolors="w", linewidth=0.1 if surface.n_angle <= 180 else 0)
     fig.colorbar(mesh, ax=ax, label="removed depth (µm)")
     ax.set(xlabel="angle round the wheel (deg)", ylabel="lateral position (mm)", title=title)

@@ -111,7 +111,7 @@ def summary_text(s):
         if "band_90_mm" in r:
             lines.append(
                 f"  {r['speed_kmh']:g} km/h, wheelset {r['strategy']}: after {r['distance_km']:.0f} km worn "
-                f"{r['left_max_worn_depth_mm'] * 1e3:.2f} / {r['right_max_worn_depth_mm'] * 1e3:.2f} um at most "
+                f"{r['left_max_worn_depth_mm'] * MM / UM:.2f} / {r['right_max_worn_depth_mm'] * MM / UM:.2f} um at most "
                 f"(left / right), 90 % of the volume in a band {r['band_90_mm']:.1f} mm wide; last step: "
                 f"lateral amplitude {r['lateral_amplitude_mm']:.2f} mm, contact from {r['contact_range_mm'][0]:.1f} "
                 f"to {r['contact_range_mm'][1]:.1f} mm; {r['steps']} steps, {r['cost_seconds_simulated']:g} s "

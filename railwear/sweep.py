@@ -19,6 +19,7 @@ from pydantic import ValidationError
 
 from railwear.errors import RailwearError, ScenarioError
 from railwear.scenario import Scenario, _one_line, scenario_hash, to_toml
+from railwear.units import GPA, KMH_PER_M_S, KN
 
 SPEED_FIELDS = ("operation.speed_kmh", "operation.speed_m_s")
 POINT_SCALARS = {
@@ -64,7 +65,7 @@ def parse_vary(text):
 
 def with_values(base: Scenario, assignment: dict):
     """The scenario ``base`` with dotted fields set, validated again (errors name the field)."""
-    data = base.model_dump(mode="python")
+    data = base.applicable(mode="python", exclude_none=False)
     for path, value in assignment.items():
         node, keys = data, path.split(".")
         for key in keys[:-1]:
@@ -286,7 +287,7 @@ def run_sweep(base: Scenario, varies, store, samples=None, seed=0, executor=None
         field = varies[0].field
         values = np.array([assignments[keys.index(k)][field] for k, _ in todo])
         order = np.argsort(values)
-        data = base.model_dump(mode="python")
+        data = base.applicable(mode="python", exclude_none=False)
         section = field.split(".")[-1]
         data["operation"][section] = [float(values[j]) for j in order]
         data["operation"][SPEED_FIELDS[1 - SPEED_FIELDS.index(field)].split(".")[-1]] = None
@@ -364,15 +365,15 @@ def hunting_map(scenario: Scenario, conicity, yaw_stiffness, lateral_stiffness=N
     from railwear.dynamics import contact_constants, linear_critical_speed
 
     w, c, ws = scenario.wheel, scenario.contact, scenario.wheelset
-    constants = contact_constants(w.static_load_kN * 1e3, 1 / (2 * w.radius_m), 1 / (2 * c.rail_head_radius_m),
-                                  c.youngs_modulus_GPa * 1e9, c.poisson)
+    constants = contact_constants(w.static_load_kN * KN, 1 / (2 * w.radius_m), 1 / (2 * c.rail_head_radius_m),
+                                  c.youngs_modulus_GPa * GPA, c.poisson)
     conicity = np.atleast_1d(np.asarray(conicity, float))
     yaw = np.atleast_1d(np.asarray(yaw_stiffness, float))
     lateral = np.atleast_1d(np.asarray(ws.lateral_stiffness_N_m if lateral_stiffness is None else lateral_stiffness, float))
     if np.any(conicity <= 0) or np.any(yaw < 0) or np.any(lateral < 0):
         raise ScenarioError("conicity must be > 0 and the stiffnesses >= 0")
     speed = np.array([[[linear_critical_speed(ws.mass_kg, ws.yaw_inertia_kg_m2, ky, kpsi, constants["f11"],
-                                              constants["f22"], ws.half_gauge_m, w.radius_m, lam) * 3.6
+                                              constants["f22"], ws.half_gauge_m, w.radius_m, lam) * KMH_PER_M_S
                         for ky in lateral] for kpsi in yaw] for lam in conicity])
     ds = xr.Dataset(
         {"critical_speed": (("conicity", "yaw_stiffness", "lateral_stiffness"), speed,

@@ -13,6 +13,9 @@ GPA = 1e9  # Pa per GPa
 UG = 1e-9  # kg per µg
 MM2 = 1e-6  # m² per mm²
 MM3 = 1e-9  # m³ per mm³
+PM = 1e-12  # m per pm
+MN = 1e6  # N per MN
+HOUR = 3600.0  # s per h
 
 
 def kmh_to_m_s(v):

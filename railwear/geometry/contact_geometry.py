@@ -32,6 +32,7 @@ from scipy.optimize import brentq
 from railwear.contact import hertz_contact, kalker_coefficients
 from railwear.errors import ScenarioError
 from railwear.geometry.profiles import Profile
+from railwear.units import MM
 
 __all__ = ["contact_table", "equivalent_conicity", "gauge_point"]
 
@@ -282,7 +283,7 @@ def gauge_point(rail, depth=0.014):
     top = int(np.argmin(z))
     below = np.nonzero(z[: top + 1] >= z[top] + depth)[0]
     if below.size == 0:
-        raise ScenarioError(f"rail profile {rail.name!r} has no gauge face {depth * 1e3:g} mm below its top")
+        raise ScenarioError(f"rail profile {rail.name!r} has no gauge face {depth / MM:g} mm below its top")
     k = below[-1]
     return brentq(lambda s: rail(s) - z[top] - depth, y[k], y[k + 1], xtol=1e-13)
 
@@ -388,7 +389,7 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
     if not np.all(ok):
         bad = shifts[~ok][0]
         raise ScenarioError(
-            f"wheel and rail profiles never touch at y = {bad * 1e3:.3g} mm (check gauge, back_to_back, cant)"
+            f"wheel and rail profiles never touch at y = {bad / MM:.3g} mm (check gauge, back_to_back, cant)"
         )
 
     sides = []

@@ -91,6 +91,14 @@ class Body(ABC):
         """Called after every change of ``u``: rebuild what the dynamics see of it."""
 
     @abstractmethod
+    def error_shape(self, u):
+        """Shape of what the Monte Carlo variance is kept on."""
+
+    @abstractmethod
+    def new_cost(self):
+        """The cost counters of a new run (a dict of zeros)."""
+
+    @abstractmethod
     def rates(self, u, rng, cost):
         """Frozen-geometry wear: ``(rate, error, law_rate, seen)`` with ``rate`` per unit normed
         time in the layout of an increment, ``error`` the Monte Carlo standard error of what the
@@ -123,6 +131,26 @@ class Body(ABC):
     @abstractmethod
     def fingerprint_parts(self):
         """What identifies the body's problem, for checkpoints."""
+
+
+class RadiusBody(Body):
+    """A body whose wear variable is the radius deviation ``u`` (m) over the angle: wear lowers
+    it, the depth limit and the variance look at every cell."""
+
+    def start(self, u0):
+        return checked_start(u0, 1.0, None).copy()
+
+    def removed(self, u, u_start):
+        return u_start - u
+
+    def removal(self, increment):
+        return increment
+
+    def apply(self, u, increment):
+        return u - increment
+
+    def error_shape(self, u):
+        return u.shape
 
 
 @dataclass

@@ -54,5 +54,5 @@ class Direct(Strategy, name="direct"):
 
     def attributes(self, state):
         return {"strategy_description": "direct coupled integration", "acceleration_factor": self.acceleration,
-                "segments": state.steps}
+                "steps": state.steps}
 

@@ -34,7 +34,7 @@ import numpy as np
 from railwear.dynamics import kernels
 from railwear.dynamics.integration import Integrator
 from railwear.errors import ScenarioError
-from railwear.longterm.base import Body, checked_start, stop_time, time_coordinates
+from railwear.longterm.base import RadiusBody, stop_time, time_coordinates
 from railwear.longterm.spectra import describe
 from railwear.wear import ContactSample, WearLaw
 
@@ -142,7 +142,7 @@ class ServiceSpeeds:
 
 
 @dataclass(frozen=True)
-class DiskWheel(Body):
+class DiskWheel(RadiusBody):
     """The disk wheel ``model`` (a :class:`~railwear.dynamics.DiskWheelModel`; its speed, phase
     and ``u`` are replaced per run) worn by ``law`` (a :class:`~railwear.wear.WearLaw`) over the
     lateral ``band_width`` (m); ``life_distance`` (m) one unit of normed time. Frozen geometry
@@ -236,21 +236,6 @@ class DiskWheel(Body):
         return self.model.radius * (2.0 * math.pi / n_cells) * self.band_width
 
     # the body protocol
-    def start(self, u0):
-        return checked_start(u0, 1.0, None).copy()
-
-    def removed(self, u, u_start):
-        return u_start - u
-
-    def removal(self, increment):
-        return increment
-
-    def apply(self, u, increment):
-        return u - increment
-
-    def error_shape(self, u):
-        return u.shape
-
     def new_cost(self):
         return {"revolutions": 0, "rhs_evaluations": 0}
 

@@ -22,6 +22,7 @@ import xarray as xr
 from railwear.errors import ScenarioError
 from railwear.longterm.base import Strategy, checked_start, stop_time, time_coordinates
 from railwear.longterm.spectra import describe
+from railwear.units import KM
 
 
 def contact_filter(orders, half_angle):
@@ -124,7 +125,7 @@ class Fourier:
              "drift": (("order",), -lam.imag / orders,
                        {"units": "rad s-1", "long_name": "drift of the harmonic round the wheel"})},
             coords={"time": ("time", t, {"units": "s", "long_name": "time in service"}),
-                    "distance": ("time", t * self.speed / 1e3, {"units": "km", "long_name": "distance run"}),
+                    "distance": ("time", t * self.speed / KM, {"units": "km", "long_name": "distance run"}),
                     "angle": ("angle", 2 * np.pi * np.arange(n) / n, {"units": "rad", "long_name": "angle round the wheel"}),
                     "order": ("order", orders, {"units": "1", "long_name": "polygon order"})},
             attrs={"strategy": "Fourier technique for linear dynamics (Brommundt)", "stop_seconds": stop},
@@ -198,7 +199,7 @@ def stability_map(make_model, speeds, orders, law, band_width, driver="frictiona
     """
     speeds = np.atleast_1d(np.asarray(speeds, float))
     orders = np.atleast_1d(np.asarray(orders, int))
-    rate = np.array([Fourier.disk_wheel(make_model(v), law, band_width, driver).rates(orders).real / v * 1e3
+    rate = np.array([Fourier.disk_wheel(make_model(v), law, band_width, driver).rates(orders).real / v * KM
                      for v in speeds])
     return xr.Dataset(
         {"growth_rate": (("speed", "order"), rate, {"units": "km-1", "long_name": "growth rate per kilometre run"})},

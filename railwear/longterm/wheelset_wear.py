@@ -18,24 +18,23 @@ a symmetric wheelset; under hunting and random starts the two wheels wear alike)
 table is recomputed from the worn profile and the dynamics continue on it. The angle-dependent
 part of the depth is an output only: the table model has no angle round the wheel.
 
-- :class:`WheelsetStepwise` (strategy 3): frozen profile; ``samples`` runs from random initial
-  lateral offsets and phases, each ``transient`` seconds thrown away and ``seconds`` gathered;
-  the mean depth rate is extrapolated over a long-term step in which the fed lateral profile
-  changes by at most ``step_limit`` (m); repeat.
-- :class:`WheelsetDirect` (strategy 1): one run, the wear coefficient multiplied by
-  ``acceleration``; the surface takes the wear of every interval, the profile and the table are
-  updated every ``update_seconds`` of simulated time.
+:class:`Wheelset` is the body the strategies wear:
 
-Normed time: ``life_distance`` metres of running are one unit. Both strategies' ``run`` return an
-``xarray.Dataset`` with ``worn_depth(distance, wheel, lateral)`` (m, angle-averaged),
-``surface_depth(wheel, angle, lateral)`` at the end, the removed and the law's volume, the contact
-positions and the largest lateral displacement seen per step, the tables' rolling-radius
-difference per step, and the cost (simulated seconds, right-hand sides, tables, wall seconds);
-stepwise adds the Monte Carlo standard error of the final worn depth.
+- :class:`~railwear.longterm.stepwise.Stepwise` (strategy 3): frozen profile; ``samples`` runs
+  from random initial lateral offsets and phases, each ``transient`` seconds thrown away and
+  ``seconds`` gathered; the mean depth rate is extrapolated over a long-term step in which the fed
+  lateral profile changes by at most ``step_limit`` (m); repeat.
+- :class:`~railwear.longterm.direct.Direct` (strategy 1): one run, the wear coefficient
+  multiplied by ``acceleration``; the surface takes the wear of every interval, the profile and
+  the table are updated every ``update_seconds`` of simulated time.
 
-Both ``run`` s take ``checkpoint`` (called with a :class:`WheelsetCheckpoint` after every step or
-update) and ``resume`` (one such checkpoint of the same problem): the resumed run gives the same
-result, bit for bit, as the uninterrupted one.
+Normed time: ``life_distance`` metres of running are one unit. The result keeps the long-term
+contract (``u`` = minus the removed depth over (time, wheel, angle, lateral), ``distance`` in km)
+and adds ``worn_depth(time, wheel, lateral)`` (m, angle-averaged), ``surface_depth(wheel, angle,
+lateral)`` at the end, the removed and the law's volume, the contact positions and the largest
+lateral displacement seen per step, the tables' rolling-radius difference per step, and the cost
+(simulated seconds, right-hand sides, tables); stepwise adds the Monte Carlo standard error of the
+final worn depth. Checkpoints and resumes are the driver's, bit for bit.
 """
 
 from dataclasses import dataclass, field, fields, replace

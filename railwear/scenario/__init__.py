@@ -73,8 +73,8 @@ def load_scenario(path_or_name=None):
 
 
 def to_toml(scenario: Scenario):
-    """The scenario as TOML, with every default written out."""
-    return tomli_w.dumps(scenario.model_dump(mode="json", exclude_none=True))
+    """The scenario as TOML, with every default that applies to its strategy and body written out."""
+    return tomli_w.dumps(scenario.applicable())
 
 
 def scenario_hash(scenario: Scenario):

@@ -93,28 +93,51 @@ def disk_wheel_model(scenario: Scenario, speed):
         patch_half_length=constants["patch_half_length"])
 
 
+BUILDERS: dict = {}
+
+
+def builds(kind):
+    """Register ``fn(scenario)`` as the builder of the strategy ``kind`` (its body from :func:`body`)."""
+    def register(fn):
+        BUILDERS[kind] = fn
+        return fn
+    return register
+
+
 def strategy(scenario: Scenario):
     """The long-term strategy of the scenario, ready to ``run(u0, until, depth_limit, ...)``."""
-    from railwear.longterm.fourier import Fourier, FourierStrategy
-    from railwear.longterm.phenomenological import Phenomenological
+    return BUILDERS[scenario.strategy.kind](scenario)
 
-    solver, speeds = scenario.solver, scenario.operation.speeds
-    if scenario.strategy.body == "wheelset":
-        return wheelset_strategy(scenario)
-    if scenario.strategy.kind == "phenomenological":
-        return Phenomenological(wear_rate(scenario), np.asarray(speeds, float), solver.epsilon, solver.nu,
-                                *odd_terms(scenario),
-                                options={"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt},
-                                life_distance=life_distance(scenario))
-    if scenario.strategy.kind == "stepwise":
-        return stepwise(scenario)
+
+def one_speed(scenario: Scenario):
+    """The operation speed (m/s) of a strategy that takes one."""
+    speeds = scenario.operation.speeds
     if isinstance(speeds, list):
         raise ScenarioError(f"operation: the {scenario.strategy.kind} strategy takes one speed; "
                             "sweep over speeds instead")
-    if scenario.strategy.kind == "direct":
-        return direct(scenario)
-    fourier = Fourier.disk_wheel(disk_wheel_model(scenario, speeds), wear_law(scenario), band_width(scenario))
-    return FourierStrategy(fourier, life_distance(scenario), solver.n_save)
+    return speeds
+
+
+@builds("phenomenological")
+def phenomenological(scenario: Scenario):
+    """Strategy 4: the evolution equation with ``[wear_rate]`` and ``[solver]``, batched over the speeds."""
+    from railwear.longterm.phenomenological import Phenomenological
+
+    solver = scenario.solver
+    return Phenomenological(wear_rate(scenario), np.asarray(scenario.operation.speeds, float), solver.epsilon,
+                            solver.nu, *odd_terms(scenario),
+                            options={"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt},
+                            life_distance=life_distance(scenario))
+
+
+@builds("fourier")
+def fourier(scenario: Scenario):
+    """Strategy 2: the Fourier technique on the linearised disk wheel at the one speed."""
+    from railwear.longterm.fourier import Fourier, FourierStrategy
+
+    model = disk_wheel_model(scenario, one_speed(scenario))
+    return FourierStrategy(Fourier.disk_wheel(model, wear_law(scenario), band_width(scenario)),
+                           life_distance(scenario), scenario.solver.n_save)
 
 
 def wear_law(scenario: Scenario):
@@ -149,33 +172,40 @@ def life_distance(scenario: Scenario):
     return scenario.operation.life_distance_km * KM
 
 
+DISK_WHEEL_SETTINGS = ("revolutions", "transient_revolutions", "samples", "updates_per_revolution")
+
+
 def disk_wheel_body(scenario: Scenario, speed=None):
     """The disk wheel of ``[disk_wheel]`` as a long-term body, its frozen-geometry draws from the
-    ``[service]`` speeds (``speed`` m/s: the model's speed, default the service mean)."""
+    ``[service]`` speeds (``speed`` m/s: the model's speed, default the service mean), with the
+    settings of ``[strategy]`` that are the body's."""
     from railwear.longterm.disk_wheel import DiskWheel
 
     st, service = scenario.strategy, service_speeds(scenario)
+    settings = {k: getattr(st, k) for k in DISK_WHEEL_SETTINGS if k in type(st).model_fields}
     return DiskWheel(disk_wheel_model(scenario, service.mean if speed is None else speed), wear_law(scenario),
-                     band_width(scenario), life_distance(scenario), service, revolutions=st.revolutions,
-                     transient_revolutions=st.transient_revolutions, samples=st.samples,
-                     updates_per_revolution=st.updates_per_revolution)
+                     band_width(scenario), life_distance(scenario), service, **settings)
 
 
+@builds("stepwise")
 def stepwise(scenario: Scenario):
-    """Strategy 3 on the disk wheel of ``[disk_wheel]`` over the ``[service]`` speeds."""
+    """Strategy 3 on the body, the disk wheel over the ``[service]`` speeds, seeded by ``service.seed``."""
     from railwear.longterm.stepwise import Stepwise
 
     st = scenario.strategy
-    return Stepwise(disk_wheel_body(scenario), st.step_limit_um * UM, seed=scenario.service.seed,
+    return Stepwise(body(scenario), st.step_limit_um * UM, seed=scenario.service.seed,
                     limit_on=st.step_limit_on, scheme=st.scheme)
 
 
+@builds("direct")
 def direct(scenario: Scenario):
-    """Strategy 1 on the disk wheel of ``[disk_wheel]`` at the operation speed."""
+    """Strategy 1 on the body at the operation speed: the disk wheel's outputs at ``solver.n_save``
+    marks, the wheelset's after every update."""
     from railwear.longterm.direct import Direct
 
-    return Direct(disk_wheel_body(scenario, scenario.operation.speeds), scenario.strategy.acceleration_factor,
-                  n_save=scenario.solver.n_save)
+    wheelset = scenario.strategy.body == "wheelset"
+    return Direct(body(scenario, one_speed(scenario)), scenario.strategy.acceleration_factor,
+                  n_save=None if wheelset else scenario.solver.n_save, seed=scenario.service.seed)
 
 
 def profile(scenario: Scenario, which):
@@ -217,19 +247,19 @@ def wheelset_wear(scenario: Scenario):
                         output_rate=ww.output_rate_Hz, footprint=ww.footprint)
 
 
-def wheelset_strategy(scenario: Scenario):
-    """Strategy 3 (``kind = "stepwise"``) or 1 (``"direct"``) on the wheelset of ``[wheelset_wear]``,
-    seeded by ``service.seed``; ``run(None, until, depth_limit, ...)`` starts from the new profile."""
-    from railwear.longterm.direct import Direct
-    from railwear.longterm.stepwise import Stepwise
+def wheelset_body(scenario: Scenario):
+    """The wheelset of ``[wheelset_wear]`` as a long-term body (its samples from ``[strategy]``)."""
     from railwear.longterm.wheelset_wear import Wheelset
 
-    st, ww, seed = scenario.strategy, scenario.wheelset_wear, scenario.service.seed
-    body = Wheelset(wheelset_wear(scenario), seconds=ww.seconds_per_sample_s, samples=st.samples,
-                    update_seconds=ww.update_interval_s)
-    if st.kind == "stepwise":
-        return Stepwise(body, st.step_limit_um * UM, seed=seed, limit_on=st.step_limit_on, scheme=st.scheme)
-    return Direct(body, st.acceleration_factor, n_save=None, seed=seed)
+    ww = scenario.wheelset_wear
+    return Wheelset(wheelset_wear(scenario), seconds=ww.seconds_per_sample_s,
+                    samples=getattr(scenario.strategy, "samples", 4), update_seconds=ww.update_interval_s)
+
+
+def body(scenario: Scenario, speed=None):
+    """The body of ``[strategy] body``: the disk wheel (at ``speed``, m/s, default the service
+    mean) or the wheelset (``run(None, ...)`` starts from the new profile)."""
+    return wheelset_body(scenario) if scenario.strategy.body == "wheelset" else disk_wheel_body(scenario, speed)
 
 
 def fitted_h(scenario: Scenario, speeds=None, scales=(0.5, 1.0, 1.5, 2.0), degree=3, bins=16):
@@ -260,7 +290,9 @@ def with_fitted_h(scenario: Scenario, fit):
         "table_speed_kmh": None if table.speed is None else m_s_to_kmh(table.speed).tolist(),
         "drift_rad": fit.drift.tolist() if table.speed is not None else float(fit.drift[0]),
         "dispersion_rad3": fit.dispersion.tolist() if table.speed is not None else float(fit.dispersion[0])})
-    strategy = scenario.strategy.model_copy(update={"kind": "phenomenological"})
+    from railwear.scenario.schema import PhenomenologicalSection
+
+    strategy = PhenomenologicalSection()
     return scenario.model_copy(update={"wear_rate": wear_rate, "strategy": strategy,
                                        "name": f"{scenario.name}-fitted",
                                        "description": f"h fitted to the frozen-geometry statistics of '{scenario.name}'"})

@@ -19,6 +19,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from railwear.errors import ScenarioError
 from railwear.scenario import _one_line
+from railwear.units import UM
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 
@@ -141,6 +142,6 @@ def build(scenario: DynamicsScenario, speed):
         if len(ring.orders) != len(ring.amplitudes_um):
             raise ScenarioError("model.out_of_round: one amplitude per order")
         x = 2 * np.pi * np.arange(ring.points) / ring.points
-        fields["radius_deviation"] = sum(a * 1e-6 * np.cos(n * x) for n, a in zip(ring.orders, ring.amplitudes_um))
+        fields["radius_deviation"] = sum(a * UM * np.cos(n * x) for n, a in zip(ring.orders, ring.amplitudes_um))
     fields["speed"] = speed
     return build_model(scenario.model.kind, fields)

@@ -1,8 +1,9 @@
 """The scenario schema: frozen pydantic models with physical bounds; units in the field names."""
 
-from typing import Annotated, Literal
+from typing import Annotated, ClassVar, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, SerializeAsAny, field_validator, model_validator
+from pydantic import (BaseModel, ConfigDict, Field, SerializeAsAny, ValidationError, field_validator,
+                      model_validator)
 
 from railwear.units import GPA, UG, kmh_to_m_s
 
@@ -100,16 +101,23 @@ class USFDWear(WearSection):
 
 
 def _section_of(registry, key, default, what):
-    """A before-validator: a TOML table validated by the class registered under its ``key``."""
+    """A before-validator: a TOML table validated by the class registered under its ``key``; a
+    field the class does not have is named as not applying to it."""
     def pick(value):
         if isinstance(value, BaseModel):
             return value
         if not isinstance(value, dict):
             raise ValueError(f"must be a table, not {type(value).__name__}")
         name = value.get(key, default)
-        if name not in registry:
+        if not isinstance(name, str) or name not in registry:
             raise ValueError(f"{key}: unknown {what} {name!r}; known: {', '.join(sorted(registry))}")
-        return registry[name].model_validate(value)
+        try:
+            return registry[name].model_validate(value)
+        except ValidationError as e:
+            extra = [err["loc"][0] for err in e.errors() if err["type"] == "extra_forbidden"]
+            if extra:
+                raise ValueError(f"{extra[0]}: does not apply to {key} {name!r}") from None
+            raise
     return pick
 
 
@@ -203,36 +211,90 @@ class Initial(_Section):
         return self
 
 
-class Strategy(_Section):
-    """The long-term strategy: the evolution equation (paper eq. 4), the Fourier technique, the
-    stepwise frozen geometry or the direct coupled integration on the disk wheel of
-    ``[disk_wheel]``; with ``body = "wheelset"`` the stepwise or direct strategy on the wheelset of
-    ``[wheelset_wear]`` instead.
+class StrategySection(_Section):
+    """``[strategy]``: the long-term strategy named by ``kind`` with its own fields (a field of
+    another kind is an error) on the ``body`` (``"disk_wheel"``: ``[disk_wheel]``; ``"wheelset"``:
+    ``[wheelset_wear]``). A new strategy registers its section with :func:`strategy_section` and
+    its builder with :func:`railwear.scenario.build.builds`."""
 
-    Stepwise: ``step_limit_um`` the largest change of ``u`` (``step_limit_on = "u"``) or of its
-    shape ``u - mean(u)`` (``"shape"``) per long-term step, taken by ``scheme`` (``"euler"``, or
-    ``"adams-bashforth"``: second order at the same cost per step), ``samples`` draws
-    of phase and speed (from ``[service]``, seeded by ``service.seed``) of ``revolutions`` each
-    after ``transient_revolutions``. Direct: ``acceleration_factor`` on the wear coefficient
-    (>= 1), the surface updated ``updates_per_revolution`` times a revolution.
-    """
-
-    kind: Literal["phenomenological", "fourier", "stepwise", "direct"] = "phenomenological"
+    kind: str
     body: Literal["disk_wheel", "wheelset"] = "disk_wheel"
+    bodies: ClassVar[tuple] = ("disk_wheel",)
+    disk_wheel_only: ClassVar[tuple] = ()
+
+    @model_validator(mode="after")
+    def _body(self):
+        if self.body not in self.bodies:
+            raise ValueError(f"body {self.body!r} takes kind {' or '.join(repr(k) for k in _kinds_of(self.body))}, "
+                             f"not {self.kind!r}")
+        for name in self.disk_wheel_only:
+            if self.body != "disk_wheel" and name in self.model_fields_set:
+                raise ValueError(f"{name}: applies to body 'disk_wheel' only, not {self.body!r}")
+        return self
+
+
+STRATEGY_SECTIONS: dict = {}
+
+
+def strategy_section(cls):
+    """Register a ``[strategy]`` section class under the default of its ``kind`` field."""
+    STRATEGY_SECTIONS[cls.model_fields["kind"].default] = cls
+    return cls
+
+
+def _kinds_of(body):
+    return [k for k, c in STRATEGY_SECTIONS.items() if body in c.bodies]
+
+
+Revolutions = Annotated[int, Field(ge=0, le=100000)]
+
+
+@strategy_section
+class PhenomenologicalSection(StrategySection):
+    """The evolution equation (paper eq. 4) with the ``h`` of ``[wear_rate]`` and the
+    regularisation of ``[solver]``."""
+
+    kind: Literal["phenomenological"] = "phenomenological"
+
+
+@strategy_section
+class FourierSection(StrategySection):
+    """The Fourier technique on the linearised disk wheel of ``[disk_wheel]`` (one speed)."""
+
+    kind: Literal["fourier"] = "fourier"
+
+
+@strategy_section
+class StepwiseSection(StrategySection):
+    """Stepwise frozen geometry: ``step_limit_um`` the largest change of ``u``
+    (``step_limit_on = "u"``) or of its shape ``u - mean(u)`` (``"shape"``) per long-term step,
+    taken by ``scheme`` (``"euler"``, or ``"adams-bashforth"``: second order at the same cost per
+    step), ``samples`` draws of phase and speed (from ``[service]``, seeded by ``service.seed``);
+    on the disk wheel each of ``revolutions`` after ``transient_revolutions``."""
+
+    kind: Literal["stepwise"] = "stepwise"
+    bodies: ClassVar[tuple] = ("disk_wheel", "wheelset")
+    disk_wheel_only: ClassVar[tuple] = ("revolutions", "transient_revolutions")
     step_limit_um: Positive = 10.0
     step_limit_on: Literal["u", "shape"] = "u"
     scheme: Literal["euler", "adams-bashforth"] = "euler"
-    revolutions: Annotated[int, Field(ge=1, le=100000)] = 4
-    transient_revolutions: Annotated[int, Field(ge=0, le=100000)] = 4
     samples: Annotated[int, Field(ge=2, le=100000)] = 8
-    acceleration_factor: Annotated[float, Field(ge=1, allow_inf_nan=False)] = 100.0
-    updates_per_revolution: Annotated[int, Field(ge=1, le=1000)] = 1
+    revolutions: Annotated[int, Field(ge=1, le=100000)] = 4
+    transient_revolutions: Revolutions = 4
 
-    @model_validator(mode="after")
-    def _wheelset_kinds(self):
-        if self.body == "wheelset" and self.kind not in ("stepwise", "direct"):
-            raise ValueError(f"body 'wheelset' takes kind 'stepwise' or 'direct', not {self.kind!r}")
-        return self
+
+@strategy_section
+class DirectSection(StrategySection):
+    """Direct coupled integration: ``acceleration_factor`` on the wear coefficient (>= 1); on the
+    disk wheel the surface updated ``updates_per_revolution`` times a revolution after
+    ``transient_revolutions`` without wear."""
+
+    kind: Literal["direct"] = "direct"
+    bodies: ClassVar[tuple] = ("disk_wheel", "wheelset")
+    disk_wheel_only: ClassVar[tuple] = ("updates_per_revolution", "transient_revolutions")
+    acceleration_factor: Annotated[float, Field(ge=1, le=1e9, allow_inf_nan=False)] = 100.0
+    updates_per_revolution: Annotated[int, Field(ge=1, le=1000)] = 1
+    transient_revolutions: Revolutions = 4
 
 
 class DiskWheel(_Section):
@@ -364,9 +426,42 @@ class Scenario(_Section):
     solver: Solver = Solver()
     initial: Initial = Initial()
     service: Service = Service()
-    strategy: Strategy = Strategy()
+    strategy: SerializeAsAny[StrategySection] = PhenomenologicalSection()
     disk_wheel: DiskWheel = DiskWheel()
     wheelset: Wheelset = Wheelset()
     wheelset_wear: WheelsetWear = WheelsetWear()
 
     _wear = field_validator("wear", mode="before")(_section_of(WEAR_SECTIONS, "law", "energy", "wear law"))
+    _strategy = field_validator("strategy", mode="before")(
+        _section_of(STRATEGY_SECTIONS, "kind", "phenomenological", "strategy kind"))
+
+    @model_validator(mode="after")
+    def _applies(self):
+        for section, names, applies, to in self._only_for():
+            given = getattr(self, section).model_fields_set & set(names or type(getattr(self, section)).model_fields)
+            if given and not applies:
+                raise ValueError(f"{section}.{sorted(given)[0]}: applies to {to} only")
+        return self
+
+    def _only_for(self):
+        """(section, fields or None for all, whether they apply, to what)."""
+        kind, body = self.strategy.kind, self.strategy.body
+        return (("solver", ("epsilon", "nu", "dealias", "dt"), kind == "phenomenological", "the phenomenological strategy"),
+                ("wear_rate", None, kind == "phenomenological", "the phenomenological strategy"),
+                ("disk_wheel", None, body == "disk_wheel", "body 'disk_wheel'"),
+                ("wheelset_wear", None, body == "wheelset", "body 'wheelset'"))
+
+    def applicable(self, **dump):
+        """The scenario as plain data (``model_dump`` options ``dump``; default JSON types without
+        ``None``) without the fields that do not apply to its strategy and body."""
+        data = self.model_dump(**{"mode": "json", "exclude_none": True, **dump})
+        if self.strategy.body != "disk_wheel":
+            for name in self.strategy.disk_wheel_only:
+                data["strategy"].pop(name)
+        for section, names, applies, _ in self._only_for():
+            if not applies:
+                for name in names or list(data[section]):
+                    data[section].pop(name, None)
+                if not data[section]:
+                    data.pop(section)
+        return data

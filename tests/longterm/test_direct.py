@@ -3,6 +3,7 @@ the stepwise strategy, resume, input checks."""
 
 import numpy as np
 import pytest
+from helpers import Killed, killed_after
 
 from railwear.errors import ScenarioError
 from railwear.wear import EnergyLaw
@@ -60,16 +61,8 @@ def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0, runs):
     whole = strategy.run(rough_u0, until=1.0, depth_limit=40e-6)
     saved = []
 
-    class Killed(Exception):
-        """Stands for the process being killed."""
-
-    def kill(cp):
-        saved.append(cp)
-        if len(saved) == 3:
-            raise Killed
-
     with pytest.raises(Killed):
-        strategy.run(rough_u0, until=1.0, depth_limit=40e-6, checkpoint=kill)
+        strategy.run(rough_u0, until=1.0, depth_limit=40e-6, checkpoint=killed_after(3, saved))
     resumed = strategy.run(rough_u0, until=1.0, depth_limit=40e-6, resume=saved[-1])
     np.testing.assert_array_equal(resumed.u.values, whole.u.values)
     np.testing.assert_array_equal(resumed.time.values, whole.time.values)

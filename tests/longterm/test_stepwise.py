@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from helpers import Killed, killed_after
 
 from railwear.errors import ScenarioError
 from railwear.wear import EnergyLaw
@@ -60,16 +61,8 @@ def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0, scheme):
     whole = strategy.run(rough_u0, until=1.0, depth_limit=30e-6)
     saved = []
 
-    class Killed(Exception):
-        """Stands for the process being killed."""
-
-    def kill_after_two(cp):
-        saved.append(cp)
-        if cp.steps == 2:
-            raise Killed
-
     with pytest.raises(Killed):
-        strategy.run(rough_u0, until=1.0, depth_limit=30e-6, checkpoint=kill_after_two)
+        strategy.run(rough_u0, until=1.0, depth_limit=30e-6, checkpoint=killed_after(2, saved))
     resumed = strategy.run(rough_u0, until=1.0, depth_limit=30e-6, resume=saved[-1])
     assert whole.sizes["time"] > 3
     np.testing.assert_array_equal(resumed.u.values, whole.u.values)

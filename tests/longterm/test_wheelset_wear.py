@@ -4,6 +4,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from helpers import Killed, killed_after
 
 from railwear.dynamics import TableWheelsetModel
 from railwear.errors import ScenarioError
@@ -196,19 +197,6 @@ def test_section_script_runs_and_the_hunting_band_is_wider():
     assert "Fourier and phenomenological" in text and "### Why" in text
 
 
-class _Killed(Exception):
-    """Stands for the process being killed."""
-
-
-def _killed_after(k, saved):
-    """A checkpoint callable that keeps every checkpoint and kills the run after the ``k``-th."""
-    def keep(cp):
-        saved.append(cp)
-        if len(saved) == k:
-            raise _Killed
-    return keep
-
-
 RESUMED = [
     (lambda p: WheelsetStepwise(p, 2e-7, seconds=0.5, samples=2, seed=3), 2),
     (lambda p: WheelsetDirect(p, 2e3, update_seconds=0.1, seed=3), 2),
@@ -231,8 +219,8 @@ def test_a_killed_run_resumes_bit_for_bit(profiles, make_strategy, k):
     whole = strategy.run(until=0.06)
     assert whole.sizes["time"] > k + 2
     saved = []
-    with pytest.raises(_Killed):
-        strategy.run(until=0.06, checkpoint=_killed_after(k, saved))
+    with pytest.raises(Killed):
+        strategy.run(until=0.06, checkpoint=killed_after(k, saved))
     assert saved[-1].steps == k
     resumed = strategy.run(until=0.06, resume=saved[-1])
     _assert_same(resumed, whole)

@@ -39,7 +39,8 @@ def killed_run(monkeypatch, runner, scenario, out, k):
         return runner.invoke(app, ["run", scenario, "-o", str(out), "--no-figures", "--checkpoint-every", "0"])
 
 
-DIRECT = (('kind = "stepwise"', 'kind = "direct"'), ("t_end = 0.5", "t_end = 0.3"))
+DIRECT = (('kind = "stepwise"\nbody = "wheelset"\nstep_limit_um = 1.0\nsamples = 2\n',
+           'kind = "direct"\nbody = "wheelset"\nacceleration_factor = 5000.0\n'), ("t_end = 0.5", "t_end = 0.3"))
 
 
 def test_the_builtin_runs_through_the_cli(tmp_path):
@@ -98,8 +99,10 @@ def test_a_killed_cli_run_resumes_to_the_same_file(tmp_path, monkeypatch, direct
 
 @pytest.mark.parametrize("changes, field", [
     ((("step_limit_um = 1.0", "step_limit_um = 0.0"),), "strategy.step_limit_um"),
-    ((('kind = "stepwise"', 'kind = "direct"'), ("acceleration_factor = 5000.0", "acceleration_factor = 0.5")),
-     "strategy.acceleration_factor"),
+    ((DIRECT[0], ("acceleration_factor = 5000.0", "acceleration_factor = 0.5")), "strategy.acceleration_factor"),
+    ((("samples = 2", "samples = 2\nacceleration_factor = 10.0"),), "acceleration_factor: does not apply to kind 'stepwise'"),
+    ((("samples = 2", "samples = 2\nrevolutions = 3"),), "revolutions: applies to body 'disk_wheel' only"),
+    ((("[solver]", "[disk_wheel]\nrail_mass_kg = 100.0\n\n[solver]"),), "disk_wheel.rail_mass_kg: applies to body 'disk_wheel' only"),
     ((('body = "wheelset"', 'body = "bogie"'),), "strategy.body"),
     ((('kind = "stepwise"', 'kind = "fourier"'),), "'strategy'"),
     ((("lateral_cells = 90", "lateral_cells = 1"),), "wheelset_wear.lateral_cells"),
