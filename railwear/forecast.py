@@ -13,8 +13,8 @@ from pydantic import ValidationError
 
 from railwear.errors import ScenarioError
 from railwear.geometry import roundness
+from railwear.longterm.phenomenological import Phenomenological
 from railwear.measured import read_measured
-from railwear.pde import solve_evolution
 from railwear.scenario import Scenario, load_scenario, scenario_hash, to_toml
 from railwear.scenario import build
 from railwear.units import MM, kmh_to_m_s, m_s_to_kmh
@@ -68,8 +68,10 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
     u0 = roundness.resample_measured(angle, deviation, scenario.solver.points)
     solver = scenario.solver
     t_end = solver.t_end if horizon is None else horizon
-    ds = solve_evolution(u0, t_end, forms, kmh_to_m_s(speed), solver.epsilon, solver.nu, n_save=n_save,
-                         dealias=solver.dealias, dt=solver.dt, progress=progress)
+    strategy = Phenomenological(forms, kmh_to_m_s(speed), solver.epsilon, solver.nu,
+                                options={"n_save": n_save, "dealias": solver.dealias, "dt": solver.dt},
+                                life_distance=build.life_distance(scenario))
+    ds = strategy.run(u0, t_end, progress=progress)
     life = scenario.operation.life_distance_km
     dev = ds.u - ds.u.mean("angle")
     ptp = (dev.max("angle") - dev.min("angle")).transpose("speed", "time").values
