@@ -1,0 +1,16 @@
+"""Vertical track dynamics: one rail on continuous or discrete supports (layer 2).
+
+- ``rail("60E1")``, ``rail("54E1")``: standard sections (EN 13674-1, shipped data), any field
+  overridable; ``Rail``, ``Support``, ``Track`` frozen, validated dataclasses;
+- ``receptance(track, frequency_hz, position, response=None)``: the exact point or transfer
+  receptance of the infinite track [m/N] (continuous: eigen-waves; discrete: Floquet waves);
+- ``finite_track_receptance``: the same on a finite track of exact spans (a cross-check, and the
+  convergence in length).
+"""
+
+from railwear import _numba_cache  # noqa: F401  (first: numba caches keyed on the sources)
+
+from railwear.track.model import BEAMS, Rail, Support, Track, rail, rail_names
+from railwear.track.receptance import load_offset, receptance
+
+__all__ = ["BEAMS", "Rail", "Support", "Track", "load_offset", "rail", "rail_names", "receptance"]
