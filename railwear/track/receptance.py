@@ -69,7 +69,18 @@ def _sleeper_jump(track: Track, ks: np.ndarray) -> np.ndarray:
 
 
 def _span(A: np.ndarray, length: float) -> np.ndarray:
-    return expm(A * length) if length != 0.0 else np.broadcast_to(np.eye(4, dtype=complex), A.shape).copy()
+    """``P = exp(A x)``, (n, 4, 4): from the eigen-decomposition of ``A`` (batched), or scipy's
+    ``expm`` where the waves are too long for it (``|μ| x < 0.1``: near 0 Hz on a free span)."""
+    if length == 0.0:
+        return np.broadcast_to(np.eye(4, dtype=complex), A.shape).copy()
+    mu, V = np.linalg.eig(A)
+    short = np.max(np.abs(mu), axis=-1) * abs(length) < 0.1
+    P = np.empty(A.shape, dtype=complex)
+    good = ~short
+    P[good] = V[good] @ (np.exp(mu[good] * length)[..., None] * np.linalg.inv(V[good]))
+    if np.any(short):
+        P[short] = expm(A[short] * length)
+    return P
 
 
 def _split_waves(vectors, right_mask):
