@@ -108,18 +108,74 @@ def polygon_spectrum(u, u_initial=None, max_order=None):
     return out
 
 
-# Ratio of the final to the initial peak-to-peak deviation that separates the regimes.
-REGIME_BOUNDS = ((2.5, "polygonalising"), (1.0, "onset"), (0.5, "stable"), (0.0, "smoothing"))
+def log_growth(times, values):
+    """Least-squares slope of ``ln values`` against ``times`` along the first axis and its standard
+    error (``inf`` with fewer than 3 times; ``nan`` where a value is not positive)."""
+    t = np.asarray(times, float)
+    v = np.asarray(values, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        y = np.where(v > 0, np.log(np.where(v > 0, v, 1.0)), np.nan)
+    tc = t - t.mean()
+    sxx = float(np.sum(tc**2))
+    if t.size < 2 or sxx == 0:
+        nan = np.full(v.shape[1:], np.nan)
+        return nan, nan
+    slope = np.tensordot(tc, y - y.mean(0), axes=(0, 0)) / sxx
+    if t.size < 3:
+        return slope, np.full(slope.shape, np.inf)
+    residual = y - y.mean(0) - np.multiply.outer(tc, slope)
+    return slope, np.sqrt(np.sum(residual**2, axis=0) / (t.size - 2) / sxx)
 
 
-def regime(peak_to_peak_initial, peak_to_peak_final):
-    """The regime of the paper's Figs 9-11 from the growth of the out-of-round deviation.
+# The regimes of the paper's Figs 9-11 from the growth over the run of the out-of-round part of u
+# (its rms, all orders >= 1) and of the orders present at the start (conventions of railwear):
+POLYGONAL_GROWTH = 3.0  # out-of-round rms grows at least 3x: polygonalising
+SMOOTHING_DECAY = 0.5  # out-of-round rms falls below half: smoothing
+ONSET_GROWTH = 1.1  # out-of-round rms grows by 10 %: onset ...
+ORDER_ONSET_GROWTH = 1.5  # ... or an order present at the start grows 1.5x, by more than 2 standard errors
+PRESENT = 0.1  # an order is present at the start with at least this share of the largest amplitude
 
-    ``r = final / initial`` peak-to-peak: ``r >= 2.5`` polygonalising, ``1 <= r < 2.5`` onset
-    of instability, ``0.5 <= r < 1`` stable (the mean radius falls, the shape stays),
-    ``r < 0.5`` smoothing.
-    """
-    if peak_to_peak_initial == 0:
-        return "stable" if peak_to_peak_final == 0 else "polygonalising"
-    r = peak_to_peak_final / peak_to_peak_initial
-    return next(name for bound, name in REGIME_BOUNDS if r >= bound)
+
+def growth(times, deviation):
+    """The growth behind the regime of a run: ``deviation`` (m) over (time, angle) at normed
+    ``times``. Returns a dict: ``rms_rate`` and ``rms_rate_error`` (fitted ln-rate of the
+    out-of-round rms per unit time and its standard error), ``rms_factor`` (``exp(rate T)`` over
+    the run), ``order_rate`` and ``order_rate_error`` per order ``1..N/2-1`` (``nan`` where an
+    amplitude vanishes), ``present`` (orders present at the start), ``leading_order`` (the
+    present order that grows fastest) with its ``leading_factor``."""
+    d = np.asarray(deviation, float)
+    t = np.asarray(times, float)
+    span = t[-1] - t[0]
+    rms = np.sqrt(np.mean((d - d.mean(-1, keepdims=True)) ** 2, axis=-1))
+    rate, rate_error = log_growth(t, rms[:, None])
+    amp = harmonic_amplitudes(d)[:, 1 : d.shape[-1] // 2]
+    order_rate, order_error = log_growth(t, amp)
+    start = amp[0] if amp[0].max() > 0 else amp[-1]
+    present = start >= PRESENT * start.max() if start.max() > 0 else np.zeros(start.size, bool)
+    candidates = np.where(present & np.isfinite(order_rate), order_rate, -np.inf)
+    k = int(np.argmax(candidates))
+    return {"rms_rate": float(rate[0]), "rms_rate_error": float(rate_error[0]),
+            "rms_factor": float(np.exp(rate[0] * span)), "order_rate": order_rate, "order_rate_error": order_error,
+            "present": present, "leading_order": k + 1 if np.isfinite(candidates[k]) else 0,
+            "leading_factor": float(np.exp(candidates[k] * span)) if np.isfinite(candidates[k]) else 0.0,
+            "leading_significant": bool(np.isfinite(candidates[k]) and candidates[k] > 2 * order_error[k])}
+
+
+REGIME_RULE = ("polygonalising when the out-of-round rms grows 3x over the run, smoothing when it falls "
+               "below half, onset when it grows by 10 % or an order present at the start grows 1.5x "
+               "(by more than 2 standard errors of its fitted rate), else stable")
+
+
+def regime(g):
+    """The regime from :func:`growth`'s ``g``: :data:`REGIME_RULE`."""
+    if not np.isfinite(g["rms_factor"]):
+        return "stable"
+    if g["rms_factor"] >= POLYGONAL_GROWTH:
+        return "polygonalising"
+    if g["rms_factor"] < SMOOTHING_DECAY:
+        return "smoothing"
+    if g["rms_factor"] >= ONSET_GROWTH and g["rms_rate"] > 2 * g["rms_rate_error"]:
+        return "onset"
+    if g["leading_significant"] and g["leading_factor"] >= ORDER_ONSET_GROWTH:
+        return "onset"
+    return "stable"

@@ -39,6 +39,31 @@ def describe(ds: xr.Dataset):
     pp0, pp1 = per_row("peak_to_peak", 0), per_row("peak_to_peak", 1)
     ds["peak_to_peak_initial"] = (tuple(batch), pp0, {"units": "m", "long_name": "peak-to-peak deviation at the start"})
     ds["peak_to_peak"] = (tuple(batch), pp1, {"units": "m", "long_name": "peak-to-peak deviation at the end"})
-    regimes = np.vectorize(roundness.regime, otypes=[object])(pp0, pp1)
-    ds["regime"] = (tuple(batch), regimes.astype(str), {"long_name": "wear regime (stable, smoothing, onset, polygonalising)"})
+    times = ds.time.values
+    stops = np.broadcast_to(np.asarray(ds.stop_time.values, float), shape).ravel() if "stop_time" in ds else \
+        np.full(len(rows), times[-1])
+    fits = [roundness.growth(times[times <= stop], r[times <= stop]) for r, stop in zip(rows, stops)]
+
+    def fitted(key):
+        return np.array([f[key] for f in fits]).reshape(shape + list(np.shape(fits[0][key])))
+
+    top = fits[0]["order_rate"].size
+    rate = np.full(shape + [order.size], np.nan)
+    rate[..., :top] = fitted("order_rate")
+    error = np.full(shape + [order.size], np.nan)
+    error[..., :top] = fitted("order_rate_error")
+    per_time = "per unit normed time"
+    ds["growth_rate"] = (dims_order, rate, {"units": "1", "long_name": f"fitted growth rate of ln amplitude, {per_time}"})
+    ds["growth_rate_error"] = (dims_order, error, {"units": "1", "long_name": "standard error of the growth rate"})
+    scalars = {"out_of_round_growth_rate": ("rms_rate", f"fitted growth rate of the out-of-round rms, {per_time}"),
+               "out_of_round_growth_rate_error": ("rms_rate_error", "standard error of that rate"),
+               "out_of_round_growth_factor": ("rms_factor", "exp(rate x run): growth of the out-of-round rms"),
+               "leading_order": ("leading_order", "fastest-growing order of those present at the start"),
+               "leading_growth_factor": ("leading_factor", "exp(rate x run) of the leading order")}
+    for name, (key, long_name) in scalars.items():
+        ds[name] = (tuple(batch), fitted(key), {"units": "1", "long_name": long_name})
+    regimes = np.array([roundness.regime(f) for f in fits], dtype=object).reshape(shape)
+    ds["regime"] = (tuple(batch), regimes.astype(str),
+                    {"long_name": "wear regime (stable, smoothing, onset, polygonalising)",
+                     "rule": roundness.REGIME_RULE})
     return ds

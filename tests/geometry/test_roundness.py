@@ -43,11 +43,51 @@ def test_removed_depth():
     assert s["mean_removed_depth"] == pytest.approx(3e-4)
 
 
-def test_regimes():
-    assert roundness.regime(1.0, 3.0) == "polygonalising"
-    assert roundness.regime(1.0, 1.5) == "onset"
-    assert roundness.regime(1.0, 0.7) == "stable"
-    assert roundness.regime(1.0, 0.2) == "smoothing"
+def _history(rates, amplitude=1e-5, n_points=64, times=np.linspace(0.0, 1.0, 21), noise=0.0, seed=0):
+    """Orders 2, 3, ... each growing as ``A e^(σ T)`` (rates ``σ`` per unit time), with a
+    relative noise on every saved amplitude."""
+    rng = np.random.default_rng(seed)
+    orders = np.arange(2, 2 + len(rates))
+    return times, np.array([roundness.harmonics(
+        n_points, orders, amplitude * np.exp(np.asarray(rates) * T) * (1 + noise * rng.standard_normal(len(rates))))
+        for T in times])
+
+
+def test_log_growth_recovers_exponential_rates_and_their_noise():
+    times, u = _history([0.7, -1.3])
+    g = roundness.growth(times, u)
+    np.testing.assert_allclose(g["order_rate"][[1, 2]], [0.7, -1.3], rtol=1e-10)
+    assert np.all(g["order_rate_error"][[1, 2]] < 1e-10)
+    assert g["leading_order"] == 2 and g["leading_factor"] == pytest.approx(np.exp(0.7), rel=1e-10)
+    _, noisy = _history([0.7, -1.3], noise=0.05, seed=3)
+    n = roundness.growth(times, noisy)
+    # 5 % noise on 21 amplitudes over a unit of time: the slope's standard error ~ 0.05 / sqrt(21 / 12)
+    assert 0.01 < n["order_rate_error"][1] < 0.1
+    assert abs(n["order_rate"][1] - 0.7) < 4 * n["order_rate_error"][1]
+
+
+@pytest.mark.parametrize("rates, expected", [
+    ([1.5, 1.5], "polygonalising"),       # rms x4.5
+    ([-1.0, -1.0], "smoothing"),          # rms x0.37
+    ([0.0, 0.0], "stable"),
+    ([-0.1, -0.2], "stable"),             # rms x0.86: the shape stays
+    ([0.2, 0.2], "onset"),                # rms x1.22
+    ([0.6, -2.5, -2.5, -2.5], "onset"),   # rms x0.96, but order 2 grows x1.8
+])
+def test_regime_follows_the_growth_not_the_peak_to_peak(rates, expected):
+    times, u = _history(rates)
+    assert roundness.regime(roundness.growth(times, u)) == expected
+
+
+def test_an_order_growing_within_its_noise_is_not_onset():
+    """Order 2 ends 3x higher, but dips to 0.2 between: its fitted rate is within 2 standard
+    errors of zero, so stable."""
+    times = np.array([0.0, 0.5, 1.0])
+    u = np.array([roundness.harmonics(64, [2, 3, 4], [1e-5 * a, 1e-5 * b, 1e-5 * b])
+                  for a, b in ((1.0, 1.0), (0.2, 0.6), (3.0, 0.55))])
+    g = roundness.growth(times, u)
+    assert g["leading_factor"] > 1.5 and not g["leading_significant"]
+    assert roundness.regime(g) == "stable"
 
 
 def test_bad_orders():
