@@ -23,10 +23,11 @@ and ``B = (κ_rail + κ_wheel) / 2`` (lateral, convex positive), the normal forc
 Kalker's coefficients.
 """
 
+from dataclasses import dataclass
+
 import numpy as np
 import xarray as xr
 from numba import njit
-from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from railwear.contact import hertz_contact, kalker_coefficients
@@ -34,7 +35,7 @@ from railwear.errors import ScenarioError
 from railwear.geometry.profiles import Profile
 from railwear.units import MM
 
-__all__ = ["contact_table", "equivalent_conicity", "gauge_point"]
+__all__ = ["contact_table", "equivalent_conicity", "gauge_point", "KlingelOrbit"]
 
 _GOLDEN = 0.5 * (np.sqrt(5.0) - 1.0)
 _COARSE_STEP = 0.25e-3  # sampling of the wheel profile before refinement [m]
@@ -464,60 +465,158 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
     return ds
 
 
-def _klingel_conicity(y, dr, amplitude, e0, r0, lam_guess):
-    """Wavelength of ``y'' = -Δr(y)/(2 e0 r0)`` started at rest at ``amplitude``, as a conicity."""
-
-    def rhs(_, s):
-        return [s[1], -np.interp(s[0], y, dr) / (2.0 * e0 * r0)]
-
-    def turning(_, s):
-        return s[1]
-
-    turning.terminal = True
-    if not lam_guess > 0.0:
-        return 0.0
-    wavelength_guess = 2.0 * np.pi * np.sqrt(e0 * r0 / lam_guess)
-    span = 20.0 * wavelength_guess
-    options = dict(rtol=1e-10, atol=1e-14 * max(amplitude, 1e-6), max_step=wavelength_guess / 200.0)
-    state, travelled = np.array([amplitude, 0.0]), 0.0
-    for direction in (1.0, -1.0):  # to the opposite turning point and back
-        turning.direction = direction
-        sol = solve_ivp(rhs, (0.0, span), state, events=turning, **options)
-        if sol.t_events[0].size == 0:
-            return 0.0  # no restoring oscillation within 20 guessed wavelengths
-        travelled += sol.t_events[0][0]
-        state = sol.y_events[0][0]
-    return 4.0 * np.pi**2 * e0 * r0 / travelled**2
+_ORBIT_NODES = 4096  # midpoint nodes in the angle of the orbit (Gauss-Chebyshev in y)
 
 
-def equivalent_conicity(table, amplitude, method="integration"):
+@dataclass(frozen=True)
+class KlingelOrbit:
+    """Kinematic (Klingel) orbits, one per amplitude: ``conicity`` [-], ``wavelength`` [m] and
+    turning points ``y_min``, ``y_max`` [m] (amplitude ``(y_max - y_min) / 2``) about the
+    ``equilibrium`` y* [m] (Δr(y*) = 0). No orbit: conicity 0, NaN turning points."""
+
+    conicity: np.ndarray
+    wavelength: np.ndarray
+    equilibrium: float
+    y_min: np.ndarray
+    y_max: np.ndarray
+
+
+def _stable_equilibrium(y, dr):
+    """Δr = 0 with Δr rising through it (a minimum of the potential) nearest y = 0 [m], or None.
+
+    A run of exact zeros between a negative and a positive value is a flat well: its middle."""
+    nz = np.flatnonzero(dr != 0.0)
+    found = []
+    for i, j in zip(nz[:-1], nz[1:]):
+        if dr[i] < 0.0 < dr[j]:
+            if j == i + 1:
+                found.append(y[i] - dr[i] * (y[j] - y[i]) / (dr[j] - dr[i]))
+            else:
+                found.append(0.5 * (y[i + 1] + y[j - 1]))
+    return min(found, key=abs) if found else None
+
+
+def _potential_at(y, dr, w, s, x):
+    """Potential ``W(x) = ∫ Δr dy`` [m²] of the linearly interpolated Δr at points ``x`` [m]."""
+    k = np.clip(np.searchsorted(y, x, side="right") - 1, 0, y.size - 2)
+    t = x - y[k]
+    return w[k] + t * (dr[k] + 0.5 * s[k] * t)
+
+
+def _crossing(y, dr, w, s, y_eq, level, side):
+    """First point beyond ``y_eq`` on ``side`` (+1 right, -1 left) where ``W`` rises above
+    ``level`` (the edge of the well's level set; the far end of a flat bottom at its own level),
+    or NaN if it stays below within the table."""
+    ahead = (y > y_eq) if side > 0 else (y < y_eq)
+    beyond = np.flatnonzero(ahead & (w > level))
+    if beyond.size == 0:
+        beyond = np.flatnonzero(ahead & (w >= level))
+        if beyond.size == 0:
+            return np.nan
+    k = max(beyond[0] - 1, 0) if side > 0 else min(beyond[-1], y.size - 2)
+    e, d, c = level - w[k], dr[k], s[k]  # solve W_k + d t + c t²/2 = level in [y_k, y_k+1]
+    root = np.sqrt(max(d * d + 2.0 * c * e, 0.0))
+    if side > 0:  # W rising through the level: W' = +root
+        t = (2.0 * e / (d + root) if d + root > 0.0 else 0.0) if d >= 0.0 else (root - d) / c
+    else:  # W falling through the level: W' = -root
+        t = (2.0 * e / (d - root) if d - root < 0.0 else 0.0) if d <= 0.0 else -(root + d) / c
+    return y[k] + min(max(t, 0.0), y[k + 1] - y[k])
+
+
+def _half_period(y, dr, w, s, level, y_min, y_max):
+    """``∫ dy / sqrt(level - W)`` [m^0.5] between the turning points: midpoint rule in the angle
+    ``θ`` of ``y = m - A cos θ``, which takes out the square-root singularities at both ends."""
+    theta = (np.arange(_ORBIT_NODES) + 0.5) * np.pi / _ORBIT_NODES
+    half = 0.5 * (y_max - y_min)
+    x = 0.5 * (y_max + y_min) - half * np.cos(theta)
+    gap = np.maximum(level - _potential_at(y, dr, w, s, x), np.finfo(float).tiny)
+    return np.pi / _ORBIT_NODES * np.sum(half * np.sin(theta) / np.sqrt(gap))
+
+
+def _klingel_orbits(y, dr, y_eq, amplitudes, e0r0):
+    """Orbits of ``y'' = -Δr(y) / (2 e0 r0)`` about ``y_eq`` (or None) whose half peak-to-peak
+    motion is each amplitude [m].
+
+    With the potential ``W(y) = ∫ Δr dy`` the motion conserves ``y'² e0 r0 + W``; the orbit of
+    level ``E`` runs between the edges ``y_min < y* < y_max`` of the well ``W < E`` around the
+    stable equilibrium ``y*`` (Δr(y*) = 0). Its wavelength is ``L = 2 sqrt(e0 r0) ∫ dy / sqrt(E - W)``
+    and its conicity ``(2π)² e0 r0 / L² = π² / (∫ dy / sqrt(E - W))²`` (e0 r0 cancels). The level
+    whose ``(y_max - y_min) / 2`` is the amplitude is found by Brent's method (it grows with ``E``).
+    """
+    h = np.diff(y)
+    s = np.diff(dr) / h
+    w = np.concatenate(([0.0], np.cumsum(0.5 * h * (dr[:-1] + dr[1:]))))
+    n = amplitudes.size
+    nan = np.full(n, np.nan)
+    if y_eq is None:  # no minimum of the potential: nothing restores the wheelset
+        return KlingelOrbit(np.zeros(n), np.full(n, np.inf), np.nan, nan, nan.copy())
+    w_eq = float(_potential_at(y, dr, w, s, np.array([y_eq]))[0])
+    top = min(w[y > y_eq].max(initial=-np.inf), w[y < y_eq].max(initial=-np.inf))
+
+    def edges(level):
+        return _crossing(y, dr, w, s, y_eq, level, -1.0), _crossing(y, dr, w, s, y_eq, level, 1.0)
+
+    def half_width(level):
+        lo, hi = edges(level)
+        return 0.5 * (hi - lo)
+
+    flat = half_width(w_eq)  # half-width of a flat bottom (Δr = 0 over it), else 0
+    reach = half_width(top) if top > w_eq else 0.0  # the largest orbit inside the table
+    conicity, wavelength, y_min, y_max = np.zeros(n), np.full(n, np.inf), nan.copy(), nan.copy()
+    for k, amp in enumerate(amplitudes):
+        if not amp <= reach:
+            raise ScenarioError(f"amplitude {amp:g} m needs an orbit beyond the table's y range "
+                                f"(at most {reach:g} m about y* = {y_eq:g} m)")
+        if amp <= flat:  # inside a flat well: no restoring motion of that amplitude
+            continue
+        level = brentq(lambda e: half_width(e) - amp, w_eq, top, xtol=1e-15 * (top - w_eq),
+                       rtol=4 * np.finfo(float).eps)
+        lo, hi = edges(level)
+        if abs(0.5 * (hi - lo) - amp) > 1e-9 * amp:  # the well widens by a jump over a barrier here
+            continue
+        half = _half_period(y, dr, w, s, level, lo, hi)
+        conicity[k] = np.pi**2 / half**2
+        wavelength[k] = 2.0 * np.sqrt(e0r0) * half
+        y_min[k], y_max[k] = lo, hi
+    return KlingelOrbit(conicity, wavelength, float(y_eq), y_min, y_max)
+
+
+def equivalent_conicity(table, amplitude, method="integration", full_output=False):
     """Equivalent conicity [-] by EN 15302 for a wheelset amplitude ``amplitude`` [m] (scalar or array).
 
-    method="integration" (EN 15302, Annex B): integrate the kinematic (Klingel) equation
-    ``y'' = -Δr(y) / (2 e0 r0)`` from ``y = amplitude`` at rest, take the wavelength ``L`` of the
-    oscillation and return ``λe = (2π)² e0 r0 / L²``; ``e0`` is half the distance between the
-    contact points and ``r0`` the rolling radius at ``y = 0``. method="regression" (Annex C):
-    slope of the least-squares line ``Δr = 2 λe y`` over ``|y| <= amplitude``. ``Δr(y)`` is the
-    table's ``rolling_radius_difference``, interpolated linearly.
+    method="integration" (EN 15302, Annex B): the kinematic (Klingel) oscillation
+    ``y'' = -Δr(y) / (2 e0 r0)`` about the stable equilibrium ``y*`` (Δr(y*) = 0, the one nearest
+    y = 0) whose amplitude, half its peak-to-peak lateral motion, is ``amplitude``; its wavelength
+    ``L`` gives ``λe = (2π)² e0 r0 / L²`` (``e0`` half the distance between the contact points and
+    ``r0`` the rolling radius, at ``y*``; their product cancels from λe). Zero where no orbit of
+    that amplitude exists: no well in the potential ``∫ Δr dy``, an amplitude inside a flat
+    bottom, or one jumped over at a barrier. method="regression" (Annex C): slope of the
+    least-squares line ``Δr = 2 λe y`` over ``|y| <= amplitude``. ``Δr(y)`` is the table's
+    ``rolling_radius_difference``, interpolated linearly. ``full_output=True`` (integration) also
+    returns the :class:`KlingelOrbit`.
     """
     y = np.asarray(table["y"].values, dtype=float)
     dr = np.asarray(table["rolling_radius_difference"].values, dtype=float)
     order = np.argsort(y)
     y, dr = y[order], dr[order]
     amp = np.atleast_1d(np.asarray(amplitude, dtype=float))
-    if np.any(amp <= 0) or np.any(amp > min(-y[0], y[-1])):
-        raise ScenarioError(f"amplitude must lie in (0, {min(-y[0], y[-1]):g}] m, the range of the table")
-    at0 = table.sel(y=0.0, method="nearest")
-    e0 = 0.5 * float(at0["contact_Y"].sel(side="right") - at0["contact_Y"].sel(side="left"))
-    r0 = float(at0["rolling_radius"].mean())
     if method not in ("integration", "regression"):
         raise ScenarioError(f"method must be 'integration' or 'regression', got {method!r}")
-    out = np.empty(amp.size)
-    for k, A in enumerate(amp):
-        m = np.abs(y) <= A + 1e-15
-        lam_reg = np.sum(dr[m] * y[m]) / (2.0 * np.sum(y[m] ** 2))
-        if method == "regression":
-            out[k] = lam_reg
-            continue
-        out[k] = _klingel_conicity(y, dr, A, e0, r0, lam_reg)
-    return out[0] if np.ndim(amplitude) == 0 else out
+    if not np.all(amp > 0):
+        raise ScenarioError(f"amplitude must be positive, got {amplitude}")
+    scalar = np.ndim(amplitude) == 0
+    if method == "regression":
+        if np.any(amp > min(-y[0], y[-1])):
+            raise ScenarioError(f"amplitude must lie in (0, {min(-y[0], y[-1]):g}] m, the range of the table")
+        out = np.empty(amp.size)
+        for k, A in enumerate(amp):
+            m = np.abs(y) <= A + 1e-15
+            out[k] = np.sum(dr[m] * y[m]) / (2.0 * np.sum(y[m] ** 2))
+        return out[0] if scalar else out
+    y_eq = _stable_equilibrium(y, dr)
+    at = table.sel(y=0.0 if y_eq is None else y_eq, method="nearest")
+    e0 = 0.5 * float(at["contact_Y"].sel(side="right") - at["contact_Y"].sel(side="left"))
+    r0 = float(at["rolling_radius"].mean())
+    orbit = _klingel_orbits(y, dr, y_eq, amp, e0 * r0)
+    lam = orbit.conicity[0] if scalar else orbit.conicity
+    return (lam, orbit) if full_output else lam
