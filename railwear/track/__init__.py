@@ -5,12 +5,29 @@
 - ``receptance(track, frequency_hz, position, response=None)``: the exact point or transfer
   receptance of the infinite track [m/N] (continuous: eigen-waves; discrete: Floquet waves);
 - ``finite_track_receptance``: the same on a finite track of exact spans (a cross-check, and the
-  convergence in length).
+  convergence in length);
+- ``ModalTrack(track, n_sleepers, max_frequency_hz, reference_frequency_hz)``: the time-domain
+  track (modal superposition, compiled RK4); ``.run(...)`` under a moving or harmonic load, and
+  the compiled ``railwear.track.modal.rhs`` / ``rail_displacement`` for a body's own loop.
 """
 
 from railwear import _numba_cache  # noqa: F401  (first: numba caches keyed on the sources)
 
 from railwear.track.model import BEAMS, Rail, Support, Track, rail, rail_names
+from railwear.track.finite import finite_track_receptance
+from railwear.track.modal import ModalTrack, MovingLoadResult
 from railwear.track.receptance import load_offset, receptance
 
-__all__ = ["BEAMS", "Rail", "Support", "Track", "load_offset", "rail", "rail_names", "receptance"]
+__all__ = [
+    "BEAMS",
+    "ModalTrack",
+    "MovingLoadResult",
+    "Rail",
+    "Support",
+    "Track",
+    "finite_track_receptance",
+    "load_offset",
+    "rail",
+    "rail_names",
+    "receptance",
+]
