@@ -32,17 +32,21 @@ def _title(ds, what):
 
 
 def profiles(ds):
-    """Initial and final radius deviation over the angle (paper Figs 9 and 10)."""
-    fig, (ax,) = _figure(7, 4)
+    """Initial and final radius deviation over the angle (paper Figs 9 and 10): ``u`` itself
+    (the mean radius falls) and the shape ``u - mean(u)`` on common axes (the pattern)."""
+    fig, (top, shape) = _figure(7, 6, rows=2)
     deg = np.degrees(ds.angle.values)
-    for i, (label, d) in enumerate(_rows(ds)):
+    rows = _rows(ds)
+    for i, (label, d) in enumerate(rows):
         colour = f"C{i % 10}"
-        ax.plot(deg, d.u.isel(time=0).values / UM, color=colour, ls="--", lw=1,
-                label=f"{label}, start" if i == 0 or len(_rows(ds)) < 5 else None)
-        ax.plot(deg, d.u.isel(time=-1).values / UM, color=colour, lw=1.5, label=f"{label}, end")
-    ax.set(xlabel="angle (deg)", ylabel="radius deviation u (µm)", xlim=(0, 360),
-           title=_title(ds, "initial (dashed) and final radius"))
-    ax.legend(fontsize="small")
+        for k, style, width, when in ((0, "--", 1.0, "start"), (-1, "-", 1.5, "end")):
+            u = d.u.isel(time=k).values / UM
+            name = f"{label}, {when}" if when == "end" or i == 0 or len(rows) < 5 else None
+            top.plot(deg, u, color=colour, ls=style, lw=width, label=name)
+            shape.plot(deg, u - u.mean(), color=colour, ls=style, lw=width)
+    top.set(ylabel="radius deviation u (µm)", xlim=(0, 360), title=_title(ds, "radius at the start and the end"))
+    shape.set(xlabel="angle (deg)", ylabel="u - mean(u) (µm)", xlim=(0, 360), title="shape (mean removed)")
+    top.legend(fontsize="small")
     return fig
 
 
@@ -62,18 +66,29 @@ def evolution(ds):
     return fig
 
 
+LEVEL_FLOOR = -40.0  # dB re 1 µm (0.01 µm rms): levels below are drawn on it, not at -300 dB
+
+
 def spectrum(ds):
-    """Roughness level per polygon order at the start and the end."""
+    """Roughness level per polygon order at the start (dashed) and the end, levels below
+    :data:`LEVEL_FLOOR` drawn on the floor line with open markers."""
     fig, (ax,) = _figure(7, 4)
     orders = ds.order.values
     top = min(40, orders.size)
     for i, (label, d) in enumerate(_rows(ds)):
+        colour = f"C{i % 10}"
         with np.errstate(divide="ignore"):
             start = 20 * np.log10(d.amplitude_initial.values[:top] / np.sqrt(2) / UM)
-        ax.plot(orders[:top], start, color=f"C{i % 10}", ls="--", marker=".")
-        ax.plot(orders[:top], d.roughness_level.values[:top], color=f"C{i % 10}", marker="o", label=label)
+        for level, style, name in ((start, "--", f"{label}, start"), (d.roughness_level.values[:top], "-", f"{label}, end")):
+            shown = np.maximum(level, LEVEL_FLOOR)
+            ax.plot(orders[:top], shown, color=colour, ls=style, marker="." if style == "--" else "o", label=name)
+            below = level < LEVEL_FLOOR
+            ax.plot(orders[:top][below], shown[below], ls="none", marker="o", mfc="white", color=colour)
+    ax.axhline(LEVEL_FLOOR, color="0.6", lw=0.8, ls=":")
+    ax.annotate(f"below {LEVEL_FLOOR:g} dB (open markers)", (orders[top - 1], LEVEL_FLOOR), xytext=(0, 4),
+                textcoords="offset points", ha="right", va="bottom", fontsize="small", color="0.4")
     ax.set(xlabel="polygon order", ylabel="roughness level (dB re 1 µm)",
-           title=_title(ds, "spectrum at the start (dashed) and end"))
+           title=_title(ds, "spectrum at the start and the end"))
     ax.legend(fontsize="small")
     return fig
 
