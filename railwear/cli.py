@@ -37,24 +37,45 @@ def _announce_compiling(ctx: typer.Context):
     _compile_notice["installed"] = True
 
 
+_state = {"output": None}  # the output folder of the command running, for the log of a bug
+
+
 def _fail(message, status):
-    typer.echo(f"railwear: error: {message}", err=True)
+    typer.echo(f"railwear: error: {' '.join(str(message).split())}", err=True)
     raise typer.Exit(status)
+
+
+def _output(directory):
+    """The command's output folder: remembered for a bug's log, cleared of the temporary files
+    of killed runs (never read as results)."""
+    from railwear import results
+
+    _state["output"] = directory
+    results.clean_partial(directory)
+    return directory
 
 
 def _parse_range(text, field):
     """``A:B:STEP`` (inclusive of B) or ``v1,v2,...``."""
-    import numpy as np
+    from railwear.sweep import parse_values
 
     try:
-        if ":" in text:
-            a, b, step = (float(p) for p in text.split(":"))
-            if step <= 0 or b < a:
-                raise ValueError
-            return np.arange(a, b + step / 2, step)
-        return np.array([float(p) for p in text.split(",")])
-    except ValueError:
-        _fail(f"{field}: expected A:B:STEP with STEP > 0 and B >= A, or a list v1,v2,...; got {text!r}", 2)
+        return parse_values(text, field)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+
+
+def _option(value, name, low=None, high=None, low_open=False):
+    """Refuse an option outside ``[low, high]`` (``(low, high]`` with ``low_open``) or not finite."""
+    import math
+
+    if value is None:
+        return None
+    if not math.isfinite(value) or (low is not None and (value <= low if low_open else value < low)) or (
+            high is not None and value > high):
+        bounds = f"{'(' if low_open else '['}{low:g}, {high:g}]" if high is not None else f"{'>' if low_open else '>='} {low:g}"
+        _fail(f"{name} must be {'in ' if high is not None else ''}{bounds}, got {value:g}", 2)
+    return value
 
 
 class _Warnings:
@@ -104,11 +125,13 @@ class _Progress:
 def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None):
     from railwear import api, plots, results
 
-    checkpoint = output / "checkpoint.npz"
+    checkpoint = _output(output) / "checkpoint.npz"
     try:
         sc = None if scenario is None and resume_path is not None else api.load_scenario(scenario)
         label = f"railwear {sc.name if sc else 'resume'}"
         with _Warnings(), _Progress(label) as progress:
+            if resume_path is None and checkpoint.exists():  # an earlier run's: only the newest resumes
+                checkpoint.unlink()
             ds = api.run(sc, progress=progress, checkpoint_path=checkpoint,
                          checkpoint_every=checkpoint_every, resume_path=resume_path)
     except ScenarioError as e:
@@ -116,10 +139,7 @@ def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None
     except NumericalInstabilityError as e:
         kept = ""
         if e.last_good is not None:
-            import numpy as np
-
-            output.mkdir(parents=True, exist_ok=True)
-            np.save(output / "last_good_state.npy", e.last_good)
+            results.write_array(e.last_good, output / "last_good_state.npy")
             kept = f"; the last good state (T = {e.last_time:.4g}) is in {output / 'last_good_state.npy'}"
         _fail(f"{e}{kept}", 1)
     results.write_netcdf(ds, output / "result.nc")
@@ -143,8 +163,7 @@ def run(
     checkpoint_every: CheckpointEvery = 30.0,
 ):
     """Run a scenario; write DIR/result.nc, summary.txt, summary.json and figures."""
-    if checkpoint_every < 0:
-        _fail("--checkpoint-every must be >= 0 (s)", 2)
+    _option(checkpoint_every, "--checkpoint-every", 0, 1e9)
     _run_and_write(scenario, output, figures, checkpoint_every)
 
 
@@ -155,7 +174,8 @@ def resume(
     checkpoint_every: CheckpointEvery = 30.0,
 ):
     """Continue a stopped run from DIR/checkpoint.npz to the same result as an uninterrupted run."""
-    path = directory / "checkpoint.npz"
+    _option(checkpoint_every, "--checkpoint-every", 0, 1e9)
+    path = _output(directory) / "checkpoint.npz"
     if not path.is_file():
         _fail(f"no checkpoint in {directory} (expected {path.name})", 2)
     _run_and_write(None, directory, figures, checkpoint_every, resume_path=path)
@@ -171,6 +191,7 @@ def plot(
 
     if not result.is_file():
         _fail(f"result file {result} does not exist", 2)
+    _output(output or result.parent)
     try:
         ds = results.read_netcdf(result)
     except (OSError, ValueError) as e:
@@ -205,8 +226,8 @@ def stability(
     n = _parse_range(orders, "--orders")
     if v.min() <= 0 or n.min() < 1:
         _fail("--speeds must be > 0 and --orders >= 1", 2)
-    if amplitude_um is not None and amplitude_um < 0:
-        _fail("--amplitude-um must be >= 0", 2)
+    _option(amplitude_um, "--amplitude-um", 0, 1e4)
+    _output(output)
     try:
         ds = analysis.stability(scenario, v, n, None if amplitude_um is None else amplitude_um * UM)
     except ScenarioError as e:
@@ -241,10 +262,11 @@ def sweep(
     if not vary:
         _fail("--vary: give at least one NAME=A:B:STEP", 2)
     try:
+        _output(output)
         base = api.load_scenario(scenario)
         varies = [sweeps.parse_vary(v) for v in vary]
         for assignment in sweeps.design(varies, samples, seed)[1][:1]:
-            sweeps.with_values(base, assignment)  # a bad field fails here, before any worker starts
+            sweeps._assign(base, assignment)  # a field that is none fails here, before any worker starts
         executor = None
         if scheduler or scheduler_file:
             try:
@@ -264,9 +286,10 @@ def sweep(
             executor.close()
     except ScenarioError as e:
         _fail(str(e), 2)
-    plots.save(plots.sweep(ds), output / "sweep.png")
-    _print_sweep_table(ds)
     failed = int((ds.error != "").sum())
+    if failed < ds.error.size:  # a figure of no point at all would be empty
+        plots.save(plots.sweep(ds), output / "sweep.png")
+    _print_sweep_table(ds)
     typer.echo(f"wrote {output / 'sweep.nc'}" + (f"; {failed} point(s) failed, see the error variable" if failed else ""))
 
 
@@ -292,16 +315,18 @@ def _parse_length(text, field):
     """``0.3mm``, ``300um`` or ``3e-4m`` in metres."""
     from railwear.units import MM, UM
 
+    from railwear.measured import NUMBER
+
     units = {"mm": MM, "um": UM, "µm": UM, "m": 1.0}
     for suffix in ("mm", "um", "µm", "m"):
-        if text.strip().endswith(suffix):
-            try:
-                value = float(text.strip()[: -len(suffix)]) * units[suffix]
-            except ValueError:
+        number = text.strip().removesuffix(suffix)
+        if number != text.strip():
+            if not NUMBER.fullmatch(number.strip()):
                 break
-            if value > 0:
+            value = float(number) * units[suffix]
+            if 0 < value <= 1.0:
                 return value
-    _fail(f"{field}: expected a positive length with a unit (0.3mm, 300um, 3e-4m), got {text!r}", 2)
+    _fail(f"{field}: expected a positive length of at most 1 m with a unit (0.3mm, 300um, 3e-4m), got {text!r}", 2)
 
 
 @app.command()
@@ -321,9 +346,9 @@ def forecast(
     from railwear import plots, results
 
     limit_m = _parse_length(limit, "--limit")
-    if horizon_km is not None and not horizon_km > 0:
-        _fail("--horizon-km must be > 0", 2)
+    _option(horizon_km, "--horizon-km", 0, 1e9, low_open=True)
     try:
+        _output(output)
         with _Warnings(), _Progress("railwear forecast") as progress:
             ds = forecasts.forecast_file(measured, scenario, limit_m, samples, seed, horizon_km,
                                          angle_unit, deviation_unit, progress=progress)
@@ -354,6 +379,7 @@ def hunting_map(
 
     lam = _parse_range(conicity, "--conicity")
     kpsi = _parse_range(yaw_stiffness, "--yaw-stiffness")
+    _output(output)
     try:
         ds = sweeps.hunting_map(api.load_scenario(scenario), lam, kpsi)
     except ScenarioError as e:
@@ -377,6 +403,7 @@ def simulate(
     from railwear.scenario import dynamics
     from railwear.units import m_s_to_kmh
 
+    _output(output)
     try:
         sc = dynamics.load_dynamics_scenario(scenario)
         with _Warnings(), _Progress(f"railwear simulate {sc.name}") as progress:
@@ -407,6 +434,7 @@ def figure(
     """One of the paper's frozen-geometry figures from a disk-wheel scenario ([disk_wheel], [initial])."""
     from railwear import analysis, plots
 
+    _output(output)
     try:
         fig = analysis.figure(name, scenario).figure
     except ScenarioError as e:
@@ -431,6 +459,7 @@ def fit(
     from railwear.units import m_s_to_kmh
 
     v = None if speeds is None else _parse_range(speeds, "--speeds")
+    _output(output)
     try:
         stats, fitted, out = analysis.fit(scenario, v)
     except ScenarioError as e:
@@ -472,9 +501,23 @@ def show(name: Annotated[str, typer.Argument(help="built-in scenario name")]):
         _fail(str(e), 2)
 
 
+LOG = "railwear-error.log"
+
+
 def main():
+    """The ``railwear`` command. A bug (an exception railwear did not raise on purpose) is exit
+    status 1 with its traceback in ``LOG`` in the output folder and a one-line pointer to it."""
     try:
         app()
     except RailwearError as e:  # anything a command did not map itself
-        typer.echo(f"railwear: error: {e}", err=True)
+        typer.echo(f"railwear: error: {' '.join(str(e).split())}", err=True)
         sys.exit(2 if isinstance(e, ScenarioError) else 1)
+    except Exception as e:  # noqa: BLE001  (written down whole, not hidden)
+        import traceback
+
+        from railwear import results
+
+        log = Path(_state["output"] or ".") / LOG
+        results.write_text(traceback.format_exc(), log)
+        typer.echo(f"railwear: internal error ({type(e).__name__}); please report it with {log}", err=True)
+        sys.exit(1)

@@ -1,4 +1,8 @@
-"""Exception types of railwear (layer 0)."""
+"""Exception types of railwear (layer 0).
+
+Bad input of every kind is a :class:`ScenarioError` (exit status 2 from the command line, one
+line); its subclasses say which kind of input it was.
+"""
 
 
 class RailwearError(Exception):
@@ -10,6 +14,18 @@ class ScenarioError(RailwearError, ValueError):
 
     The message is one line and names the field.
     """
+
+
+class MeasuredFileError(ScenarioError):
+    """A measured-wheel file that cannot be used; the message names the file, line and column."""
+
+
+class OptionError(ScenarioError):
+    """A command-line option or API argument out of its range; the message names it."""
+
+
+class CheckpointError(ScenarioError):
+    """A checkpoint file that is not one railwear wrote for this run, or is damaged."""
 
 
 class NumericalInstabilityError(RailwearError, ArithmeticError):

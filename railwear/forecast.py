@@ -11,11 +11,12 @@ import numpy as np
 import xarray as xr
 from pydantic import ValidationError
 
-from railwear.errors import ScenarioError
+from railwear.errors import OptionError
 from railwear.geometry import roundness
 from railwear.longterm.phenomenological import Phenomenological
-from railwear.measured import read_measured
+from railwear.measured import ANGLE_UNITS, DEVIATION_UNITS, read_measured
 from railwear.scenario import Scenario, load_scenario, scenario_hash, to_toml
+from railwear.scenario.schema import Solver
 from railwear.scenario import build
 from railwear.units import MM, kmh_to_m_s, m_s_to_kmh
 
@@ -122,12 +123,21 @@ def forecast_file(measured, scenario=None, limit=0.3 * MM, samples=None, seed=No
             sc = sc.model_validate({**sc.applicable(mode="python", exclude_none=False), "service": {**sc.service.model_dump(), **service}})
         except ValidationError as e:
             first = e.errors()[0]
-            raise ScenarioError(f"{first['loc'][-1]}: {first['msg']}") from None
-    if not limit > 0:
-        raise ScenarioError(f"limit: must be > 0 (m), got {limit!r}")
-    if horizon_km is not None and not horizon_km > 0:
-        raise ScenarioError(f"horizon_km: must be > 0 (km), got {horizon_km!r}")
+            raise OptionError(f"{first['loc'][-1]}: {first['msg']}") from None
+    if not (np.isfinite(limit) and 0 < limit <= 1.0):
+        raise OptionError(f"limit: must be in (0, 1] m, got {limit!r}")
+    if horizon_km is not None and not (np.isfinite(horizon_km) and horizon_km > 0):
+        raise OptionError(f"horizon_km: must be finite and > 0 (km), got {horizon_km!r}")
+    for name, unit, units in (("angle_unit", angle_unit, ANGLE_UNITS), ("deviation_unit", deviation_unit, DEVIATION_UNITS)):
+        if unit is not None and unit not in units:
+            raise OptionError(f"{name}: unknown unit {unit!r}; use one of {', '.join(units)}")
     horizon = None if horizon_km is None else horizon_km / sc.operation.life_distance_km
+    if horizon is not None:  # the horizon takes the place of solver.t_end, and its bounds
+        try:
+            Solver.model_validate({**sc.solver.model_dump(), "t_end": horizon})
+        except ValidationError as e:
+            raise OptionError(f"horizon_km: {horizon_km:g} km is {horizon:g} lives: "
+                              f"{e.errors()[0]['msg'].removeprefix('Value error, ')}") from None
     angle, deviation = read_measured(measured, angle_unit, deviation_unit, field=str(measured))
     return forecast(sc, angle, deviation, limit, horizon, progress=progress)
 

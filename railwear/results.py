@@ -2,27 +2,80 @@
 
 import json
 import os
-import tempfile
+import secrets
+import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from numpy.lib.npyio import NpzFile
 
+from railwear.errors import CheckpointError, ScenarioError
 from railwear.units import MM, MM3, UM, m_s_to_kmh
 
 
+PART = ".part"  # the suffix of a file being written; never read as a result
+
+
+def _part_name(path):
+    """``.NAME.PID.RANDOM.part`` beside ``path``: the writer's process id tells a later run
+    whether the writer is still alive (:func:`clean_partial`)."""
+    return path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}{PART}"
+
+
 def _atomic(path, write):
-    """Call ``write(tmp_path)`` on a temporary file beside ``path``, then rename it into place."""
+    """Call ``write(tmp_path)`` on a new temporary file beside ``path``, then rename it over
+    ``path``. The rename replaces a symbolic link of that name rather than writing through it,
+    and the file gets the permissions of a new file (group-readable under the usual umask)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    os.close(fd)
+    tmp = _part_name(path)
+    os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0), 0o666))
     try:
-        write(tmp)
+        write(str(tmp))
         os.replace(tmp, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        tmp.unlink(missing_ok=True)
         raise
+    return path
+
+
+def _alive(pid):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process, or no signals here: keep its file
+        return True
+    return True
+
+
+def clean_partial(directory):
+    """Remove the temporary files killed writers left in ``directory`` (those of a live process
+    are kept); returns their names."""
+    directory = Path(directory)
+    if not directory.is_dir():
+        return []
+    removed = []
+    for entry in directory.iterdir():
+        name = entry.name
+        if not (name.startswith(".") and name.endswith(PART)):
+            continue
+        parts = name[: -len(PART)].rsplit(".", 2)
+        pid = int(parts[1]) if len(parts) == 3 and parts[1].isdigit() else None
+        if pid is not None and _alive(pid):
+            continue
+        if entry.is_symlink() or entry.is_file():
+            entry.unlink(missing_ok=True)
+            removed.append(name)
+    return removed
+
+
+def _readable(path, what):
+    path = Path(path)
+    if path.name.endswith(PART):
+        raise ScenarioError(f"{path}: a temporary file of a killed writer, not a {what}")
     return path
 
 
@@ -32,13 +85,22 @@ def write_netcdf(ds: xr.Dataset, path):
 
 
 def write_text(text, path):
-    """Write text atomically."""
-    return _atomic(path, lambda tmp: Path(tmp).write_text(text))
+    """Write text atomically (UTF-8)."""
+    return _atomic(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+
+
+def write_array(array, path):
+    """Write a NumPy array as ``.npy`` atomically."""
+    def write(tmp):
+        with open(tmp, "wb") as f:
+            np.save(f, np.asarray(array), allow_pickle=False)
+
+    return _atomic(path, write)
 
 
 def read_netcdf(path):
     """Open a result file fully into memory (the file is closed again)."""
-    with xr.open_dataset(path, engine="h5netcdf") as ds:
+    with xr.open_dataset(_readable(path, "result"), engine="h5netcdf") as ds:
         return ds.load()
 
 
@@ -95,13 +157,21 @@ def summary(ds: xr.Dataset):
             "peak_to_peak_um": float(d.peak_to_peak) / UM,
             "stop_time": float(d.stop_time),
             "distance_km": float(d.stop_time) * float(ds.attrs.get("life_distance_km", 0.0)),
+            "out_of_round_growth_factor": float(d.out_of_round_growth_factor),
+            "leading_order": int(d.leading_order),
+            "leading_growth_factor": float(d.leading_growth_factor),
         })
+        life = float(ds.attrs.get("life_distance_km", 0.0))
+        if life > 0 and entry["leading_order"] > 0:
+            rate = float(d.growth_rate.sel(order=entry["leading_order"]))
+            entry["leading_growth_per_10000_km"] = float(np.expm1(rate * PER_10000_KM / life))
         out.append(entry)
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
             "railwear_version": ds.attrs.get("railwear_version", ""), "runs": out}
 
 
 BODY_SUMMARIES = {"wheelset": wheelset_summary}
+PER_10000_KM = 1e4  # km: the field's distance for wear and growth rates
 
 
 def summary_text(s):
@@ -121,7 +191,10 @@ def summary_text(s):
             f"  {r['speed_kmh']:g} km/h: {r['regime']}, {r['maxima']} maxima, dominant order "
             f"{r['dominant_order']}, removed {r['max_removed_depth_mm']:.3f} mm at the most worn "
             f"spot ({r['mean_removed_depth_mm']:.3f} mm mean) after {r['distance_km']:.0f} km; "
-            f"peak-to-peak {r['peak_to_peak_initial_um']:.1f} -> {r['peak_to_peak_um']:.1f} um")
+            f"peak-to-peak {r['peak_to_peak_initial_um']:.1f} -> {r['peak_to_peak_um']:.1f} um; "
+            f"out-of-round rms x{r['out_of_round_growth_factor']:.2f} over the run, fastest order present "
+            f"at the start {r['leading_order']} (x{r['leading_growth_factor']:.2f}"
+            + (f", {r['leading_growth_per_10000_km']:+.0%} per 10 000 km)" if "leading_growth_per_10000_km" in r else ")"))
     return "\n".join(lines) + "\n"
 
 
@@ -147,14 +220,21 @@ def write_checkpoint(path, checkpoint, scenario_toml, scenario_hash):
 
 
 def read_checkpoint(path):
-    """``(checkpoint, scenario_toml, scenario_hash)`` from :func:`write_checkpoint`'s file."""
-    from railwear.errors import ScenarioError
+    """``(checkpoint, scenario_toml, scenario_hash)`` from :func:`write_checkpoint`'s file; a
+    file cut short, edited or of another kind is refused in one line."""
     from railwear.longterm.base import Checkpoint
 
+    source = f"checkpoint {path}"
     try:
-        with np.load(path, allow_pickle=False) as data:
+        data = np.load(_readable(path, "checkpoint"), allow_pickle=False)
+        if not isinstance(data, NpzFile):
+            raise ValueError("not an .npz archive")
+        with data:
             fields = {k: data[k] for k in data.files}
-        toml, digest = str(fields.pop("scenario")), str(fields.pop("scenario_hash"))
-    except (OSError, ValueError, KeyError) as e:
-        raise ScenarioError(f"checkpoint {path}: cannot be read ({e})") from None
-    return Checkpoint.from_plain(fields, source=f"checkpoint {path}"), toml, digest
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as e:
+        message = " ".join(str(e).split())[:200]
+        raise CheckpointError(f"{source}: cannot be read ({type(e).__name__}: {message}); start the run again") from None
+    texts = [fields.pop(k, None) for k in ("scenario", "scenario_hash")]
+    if any(t is None or t.dtype.kind != "U" or t.ndim for t in texts):
+        raise CheckpointError(f"{source}: no scenario text and hash; start the run again")
+    return Checkpoint.from_plain(fields, source=source), str(texts[0]), str(texts[1])

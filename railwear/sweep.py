@@ -15,10 +15,10 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from pydantic import ValidationError
 
-from railwear.errors import RailwearError, ScenarioError
-from railwear.scenario import Scenario, _one_line, scenario_hash, to_toml
+from railwear.errors import OptionError, RailwearError, ScenarioError
+from railwear.measured import NUMBER
+from railwear.scenario import Scenario, scenario_hash, to_toml, validated
 from railwear.units import GPA, KMH_PER_M_S, KN
 
 SPEED_FIELDS = ("operation.speed_kmh", "operation.speed_m_s")
@@ -43,48 +43,69 @@ class Vary:
     high: float
 
 
+MAX_VALUES = 10000  # values of one range: more is a typo in STEP, not a study
+
+
+def parse_values(spec, what):
+    """``A:B:STEP`` (B included) or ``v1,v2,...`` as an array of finite numbers; anything else
+    (a STEP of zero, NaN, more than :data:`MAX_VALUES` values) is an :class:`OptionError` naming ``what``."""
+    def number(text):
+        text = text.strip()
+        if not NUMBER.fullmatch(text) or not np.isfinite(float(text)):
+            raise ValueError
+        return float(text)
+
+    try:
+        if ":" in spec:
+            a, b, step = (number(p) for p in spec.split(":"))
+            if not (step > 0 and b >= a) or (b - a) / step >= MAX_VALUES:
+                raise ValueError
+            values = np.arange(a, b + step / 2, step)
+        else:
+            values = np.array([number(p) for p in spec.split(",")])
+        if not (0 < values.size <= MAX_VALUES and np.all(np.isfinite(values))):
+            raise ValueError
+    except ValueError:
+        raise OptionError(f"{what}: expected A:B:STEP with STEP > 0, B >= A and at most {MAX_VALUES} "
+                          f"values, or a list v1,v2,... of numbers; got {spec!r}") from None
+    return values
+
+
 def parse_vary(text):
     """``NAME=A:B:STEP`` (B included) or ``NAME=v1,v2,...``."""
     name, sep, spec = text.partition("=")
     name = name.strip()
     if not sep or not name or not spec:
-        raise ScenarioError(f"--vary {text!r}: expected NAME=A:B:STEP or NAME=v1,v2,...")
-    try:
-        if ":" in spec:
-            a, b, step = (float(p) for p in spec.split(":"))
-            if not (step > 0 and b >= a):
-                raise ValueError
-            values = np.arange(a, b + step / 2, step)
-        else:
-            values = np.array([float(p) for p in spec.split(",")])
-    except ValueError:
-        raise ScenarioError(
-            f"--vary {name}: expected A:B:STEP with STEP > 0 and B >= A, or v1,v2,...") from None
+        raise OptionError(f"--vary {text!r}: expected NAME=A:B:STEP or NAME=v1,v2,...")
+    values = parse_values(spec, f"--vary {name}")
     return Vary(name, tuple(float(v) for v in values), float(values.min()), float(values.max()))
 
 
-def with_values(base: Scenario, assignment: dict):
-    """The scenario ``base`` with dotted fields set, validated again (errors name the field)."""
+def _assign(base: Scenario, assignment: dict):
+    """The plain data of ``base`` with dotted fields set; a name that is no numeric scenario
+    field is an :class:`OptionError` (the sweep's specification, not one point, is wrong)."""
     data = base.applicable(mode="python", exclude_none=False)
     for path, value in assignment.items():
         node, keys = data, path.split(".")
         for key in keys[:-1]:
             if not isinstance(node.get(key), dict):
-                raise ScenarioError(f"--vary {path}: no such scenario field")
+                raise OptionError(f"--vary {path}: no such scenario field")
             node = node[key]
         if keys[-1] not in node and not (path in SPEED_FIELDS):
-            raise ScenarioError(f"--vary {path}: no such scenario field")
+            raise OptionError(f"--vary {path}: no such scenario field")
         current = node.get(keys[-1])
         if current is not None and (isinstance(current, bool) or not isinstance(current, (int, float))):
-            raise ScenarioError(f"--vary {path}: not a numeric field")
+            raise OptionError(f"--vary {path}: not a numeric field")
         node[keys[-1]] = int(round(value)) if isinstance(current, int) else float(value)
         if path in SPEED_FIELDS:  # one speed field replaces the other
             other = SPEED_FIELDS[1 - SPEED_FIELDS.index(path)].split(".")[-1]
             node[other] = None
-    try:
-        return Scenario.model_validate(data)
-    except ValidationError as e:
-        raise ScenarioError(_one_line(e, "sweep point")) from None
+    return data
+
+
+def with_values(base: Scenario, assignment: dict):
+    """The scenario ``base`` with dotted fields set, validated again (errors name the field)."""
+    return validated(Scenario, _assign(base, assignment), "sweep point")
 
 
 def design(varies, samples=None, seed=0):
@@ -96,13 +117,15 @@ def design(varies, samples=None, seed=0):
     """
     fields = [v.field for v in varies]
     if len(set(fields)) != len(fields):
-        raise ScenarioError("--vary names a field twice")
+        raise OptionError("--vary names a field twice")
     if samples is None:
         coords = {v.field: np.array(v.values) for v in varies}
         points = [dict(zip(fields, combo)) for combo in product(*(v.values for v in varies))]
         return coords, points
-    if samples < 1:
-        raise ScenarioError("--samples must be at least 1")
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 1 <= samples <= MAX_VALUES:
+        raise OptionError(f"--samples must be a whole number from 1 to {MAX_VALUES}, got {samples!r}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2**63:
+        raise OptionError(f"--seed must be a whole number >= 0, got {seed!r}")
     from scipy.stats import qmc
 
     unit = qmc.LatinHypercube(d=len(varies), seed=seed).random(samples)
@@ -115,6 +138,14 @@ def design(varies, samples=None, seed=0):
 
 def point_key(scenario):
     return scenario_hash(scenario)[:16]
+
+
+def _bad_key(assignment):
+    """The key of a point whose scenario is invalid (it has no scenario hash)."""
+    import hashlib
+    import json
+
+    return "invalid-" + hashlib.sha256(json.dumps(assignment, sort_keys=True).encode()).hexdigest()[:8]
 
 
 def run_point(task):
@@ -259,15 +290,29 @@ def run_sweep(base: Scenario, varies, store, samples=None, seed=0, executor=None
     from railwear import api, results
 
     store = Path(store)
-    (store / "points").mkdir(parents=True, exist_ok=True)
     coords, assignments = design(varies, samples, seed)
-    scenarios = [with_values(base, a) for a in assignments]
-    keys = [point_key(s) for s in scenarios]
-    done = {k: results.read_netcdf(store / "points" / f"{k}.nc") for k in set(keys)
-            if (store / "points" / f"{k}.nc").exists()}
-    errors = {}
-    todo = [(k, s) for k, s in dict(zip(keys, scenarios)).items() if k not in done]
+    scenarios, errors = [], {}
+    for a in assignments:  # a bad specification fails here, before anything is written
+        data = _assign(base, a)
+        try:
+            scenarios.append(validated(Scenario, data, "sweep point"))
+        except ScenarioError as e:  # this point is outside a field's bounds: recorded, the rest run
+            scenarios.append(str(e))
+    keys = [point_key(s) if isinstance(s, Scenario) else _bad_key(a) for s, a in zip(scenarios, assignments)]
+    (store / "points").mkdir(parents=True, exist_ok=True)
+    results.clean_partial(store / "points")
+    results.clean_partial(store)
+    done = {}
+    for k in set(keys):
+        path = _point_path(store, k)
+        if path.exists():
+            try:
+                done[k] = results.read_netcdf(path)
+            except (OSError, ValueError):  # a point file cut short: computed again
+                path.unlink(missing_ok=True)
+    todo = [(k, s) for k, s in dict(zip(keys, scenarios)).items() if k not in done and isinstance(s, Scenario)]
     count = [len(keys) - len(todo)]
+    errors.update({k: s for k, s in zip(keys, scenarios) if isinstance(s, str)})
 
     def finished(key, ds=None, error=None, written=False):
         count[0] += 1
@@ -292,7 +337,7 @@ def run_sweep(base: Scenario, varies, store, samples=None, seed=0, executor=None
         data["operation"][section] = [float(values[j]) for j in order]
         data["operation"][SPEED_FIELDS[1 - SPEED_FIELDS.index(field)].split(".")[-1]] = None
         try:
-            reduced = reduce_result(api.run(Scenario.model_validate(data)))
+            reduced = reduce_result(api.run(validated(Scenario, data, "sweep batch")))
             for i, j in enumerate(order):
                 key, sc = todo[j]
                 point = reduced.isel(speed=i)
@@ -371,7 +416,7 @@ def hunting_map(scenario: Scenario, conicity, yaw_stiffness, lateral_stiffness=N
     yaw = np.atleast_1d(np.asarray(yaw_stiffness, float))
     lateral = np.atleast_1d(np.asarray(ws.lateral_stiffness_N_m if lateral_stiffness is None else lateral_stiffness, float))
     if np.any(conicity <= 0) or np.any(yaw < 0) or np.any(lateral < 0):
-        raise ScenarioError("conicity must be > 0 and the stiffnesses >= 0")
+        raise OptionError("conicity must be > 0 and the stiffnesses >= 0")
     speed = np.array([[[linear_critical_speed(ws.mass_kg, ws.yaw_inertia_kg_m2, ky, kpsi, constants["f11"],
                                               constants["f22"], ws.half_gauge_m, w.radius_m, lam) * KMH_PER_M_S
                         for ky in lateral] for kpsi in yaw] for lam in conicity])

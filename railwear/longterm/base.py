@@ -194,16 +194,75 @@ class Checkpoint:
 
     @classmethod
     def from_plain(cls, data, source="checkpoint"):
-        """The checkpoint of :meth:`plain`'s fields; a file of another format is refused."""
-        if "checkpoint_kind" not in data or "checkpoint_version" not in data:
-            raise ScenarioError(f"{source}: not a railwear checkpoint of this version (start the run again)")
-        version = int(data["checkpoint_version"])
+        """The checkpoint of :meth:`plain`'s fields; a file of another format, or one whose
+        fields are missing, unknown or of the wrong type or shape, is refused in one line.
+
+        The fields of format 2 are those of the driver's loop (:mod:`railwear.longterm.driver`)
+        or, with ``intervals``, of the evolution equation's solver (``EvolutionCheckpoint``).
+        """
+        from railwear.errors import CheckpointError
+
+        # name -> (dtype kinds, ndim): the driver's loop, with any number of fields of the
+        # prefixes, and the evolution equation's solver
+        driven = {"time": ("fi", 0), "steps": ("iu", 0), "u": ("f", None), "variance": ("f", None),
+                  "law_volume": ("fi", 0), "mark": ("iu", 0), "rng_state": ("U", 0), "previous_count": ("iu", 0)}
+        prefixes = ("previous_", "carry_", "cost_", "saved_")
+        evolution = {"fingerprint": ("U", 0), "intervals": ("iu", 0), "steps": ("iu", 1), "halvings": ("iu", 0),
+                     "stabilisation": ("fi", 1), "spectra": ("c", 2), "active": ("b", 1), "stop_time": ("f", 1),
+                     "saved": ("c", 3), "times": ("f", 1), "tail_peak": ("f", 1)}
+        finite = ("time", "u", "variance", "law_volume", "stabilisation", "spectra", "saved", "times")
+
+        def refuse(why):
+            raise CheckpointError(f"{source}: {why}; start the run again")
+
+        data = {k: np.asarray(v) for k, v in data.items()}
+
+        def kind_of(name, kinds, ndim):
+            value = data[name]
+            if value.dtype.kind not in kinds or (ndim is not None and value.ndim != ndim):
+                refuse(f"field {name} is {value.dtype} of shape {value.shape}")
+            return value
+
+        if "checkpoint_kind" not in data or "checkpoint_version" not in data or "fingerprint" not in data:
+            refuse("not a railwear checkpoint of this version")
+        version = int(kind_of("checkpoint_version", "iu", 0))
         if version != CHECKPOINT_VERSION:
-            raise ScenarioError(f"{source}: checkpoint format {version}, this railwear reads {CHECKPOINT_VERSION}")
-        kind = str(data["checkpoint_kind"])
-        strategy_class(kind)
-        fields = {k[len("field_"):]: _plain(v) for k, v in data.items() if k.startswith("field_")}
-        return cls(kind, str(data["fingerprint"]), fields, version)
+            raise CheckpointError(f"{source}: checkpoint format {version}, this railwear reads {CHECKPOINT_VERSION}")
+        kind, key = str(kind_of("checkpoint_kind", "U", 0)), str(kind_of("fingerprint", "U", 0))
+        if kind not in Strategy.registry:
+            refuse(f"unknown strategy {kind[:40]!r}")
+        if len(key) != 64 or any(c not in "0123456789abcdef" for c in key):
+            refuse("the fingerprint is not a SHA-256")
+        unknown = [k for k in data if k not in ("checkpoint_kind", "checkpoint_version", "fingerprint")
+                   and not k.startswith("field_")]
+        fields = {k[len("field_"):]: v for k, v in data.items() if k.startswith("field_")}
+        spec = evolution if "intervals" in fields else driven
+        unknown += [k for k in fields if k not in spec and not k.startswith(prefixes if spec is driven else ())]
+        if unknown:
+            refuse(f"unknown field {unknown[0][:40]!r}")
+        data = fields
+        for name, (kinds, ndim) in spec.items():
+            if name not in fields:
+                refuse(f"field {name} is missing")
+            kind_of(name, kinds, ndim)
+        for name in fields:
+            if name not in spec:
+                kind_of(name, "biufc", None)
+            if name in finite and not np.all(np.isfinite(fields[name])):
+                refuse(f"field {name} is not finite")
+        counts = ("intervals", "halvings") if spec is evolution else ("steps", "mark", "previous_count")
+        if any(int(fields[n]) < 0 for n in counts) or np.any(fields["steps"] < 0):
+            refuse("a negative count")
+        if spec is evolution:
+            rows, saved = fields["spectra"].shape[0], fields["saved"]
+            if saved.shape[1:] != fields["spectra"].shape or fields["times"].shape != saved.shape[:1] or any(
+                    fields[n].shape != (rows,) for n in ("steps", "stabilisation", "active", "stop_time", "tail_peak")):
+                refuse("fields of inconsistent shapes")
+        else:
+            if fields["u"].shape == () or not all(f"previous_{i}" in fields for i in range(int(fields["previous_count"]))):
+                refuse("the wear state or the previous steps are incomplete")
+            rng_from_text(fields["rng_state"], source)
+        return cls(kind, key, {k: _plain(v) for k, v in fields.items()}, version)
 
     @property
     def steps(self):
@@ -244,14 +303,19 @@ def rng_state_text(rng):
     return json.dumps(rng.bit_generator.state)
 
 
-def rng_from_text(text):
-    """A generator continuing from :func:`rng_state_text` (only the bit generators railwear writes)."""
+def rng_from_text(text, source="checkpoint"):
+    """A generator continuing from :func:`rng_state_text` (only the bit generators railwear
+    writes, :data:`BIT_GENERATORS`; nothing else is looked up by a name from the file)."""
     try:
         state = json.loads(str(text))
+        if not isinstance(state, dict) or state.get("bit_generator") not in BIT_GENERATORS:
+            raise ValueError
         bit_generator = BIT_GENERATORS[state["bit_generator"]]()
         bit_generator.state = state
-    except (ValueError, KeyError, TypeError):
-        raise ScenarioError("checkpoint: the random generator state cannot be read") from None
+    except (ValueError, KeyError, TypeError, OverflowError, RecursionError):
+        from railwear.errors import CheckpointError
+
+        raise CheckpointError(f"{source}: the random generator state cannot be read") from None
     return np.random.Generator(bit_generator)
 
 

@@ -9,34 +9,36 @@ Built-in ones ship in ``builtin_dynamics/`` (``railwear simulate NAME``).
 """
 
 import functools
-import tomllib
+import math
 from importlib import resources
 from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railwear.errors import ScenarioError
-from railwear.scenario import _one_line
+from railwear.scenario import parse_toml, read_text, validated
+from railwear.scenario.schema import MAX_LIST, Count, Name, PathText, Speed_kmh, Text, _printable
 from railwear.units import UM
 
-Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+LARGEST = 1e13  # SI: above the Hertz constant of steel (1e11 N/m^1.5), the stiffest field there is
+STRICT = ConfigDict(extra="forbid", frozen=True, strict=True, allow_inf_nan=False)
 
 
 class OutOfRound(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = STRICT
 
-    orders: list[Annotated[int, Field(ge=1)]]
-    amplitudes_um: list[Annotated[float, Field(allow_inf_nan=False)]]
+    orders: Annotated[list[Count], Field(max_length=MAX_LIST)]
+    amplitudes_um: Annotated[list[Annotated[float, Field(ge=-1e4, le=1e4)]], Field(max_length=MAX_LIST)]
     points: Annotated[int, Field(ge=8, le=65536)] = 512
 
 
 class Profiles(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = STRICT
 
-    wheel: str = "S1002"
-    rail: str = "UIC60"
+    wheel: PathText = "S1002"
+    rail: PathText = "UIC60"
 
 
 class ModelSection(BaseModel):
@@ -48,22 +50,35 @@ class ModelSection(BaseModel):
     out_of_round: OutOfRound | None = None
     profiles: Profiles | None = None
 
+    @model_validator(mode="after")
+    def _plain(self):
+        """The model's own fields are a name or a finite number (never ``true``) of at most
+        :data:`LARGEST` in magnitude; ``build_model`` checks each against its model."""
+        for name, value in (self.model_extra or {}).items():
+            if isinstance(value, str):
+                _printable(value)
+            elif isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ValueError(f"{name}: must be a number or a name, not {type(value).__name__}")
+            elif not (math.isfinite(value) and abs(value) <= LARGEST):
+                raise ValueError(f"{name}: must be finite and at most {LARGEST:g} in magnitude, got {value!r}")
+        return self
+
 
 class RunSection(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = STRICT
 
-    speeds_kmh: list[Positive]
-    duration_s: Positive = 5.0
+    speeds_kmh: Annotated[list[Speed_kmh], Field(min_length=1, max_length=MAX_LIST)]
+    duration_s: Annotated[float, Field(gt=0, le=3600)] = 5.0  # simulated seconds
     n_output: Annotated[int, Field(ge=2, le=10**6)] = 2001
 
 
 class DynamicsScenario(BaseModel):
     """A dynamics run: the model and the speeds (for the bogie, the speeds of the ramp down)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = STRICT
 
-    name: str = "unnamed"
-    description: str = ""
+    name: Name = "unnamed"
+    description: Text = ""
     model: ModelSection
     run: RunSection
 
@@ -83,17 +98,12 @@ def load_dynamics_scenario(path_or_name):
     if path.suffix == ".toml" or path.exists():
         if not path.is_file():
             raise ScenarioError(f"scenario file {path} does not exist")
-        text, source = path.read_text(), path.name
+        text, source = read_text(path), path.name
     elif str(path_or_name) in builtin_names():
         text, source = (_builtin_dir() / f"{path_or_name}.toml").read_text(), str(path_or_name)
     else:
         raise ScenarioError(f"no dynamics scenario {path_or_name!r}; built-in: {', '.join(builtin_names())}")
-    try:
-        return DynamicsScenario.model_validate(tomllib.loads(text))
-    except tomllib.TOMLDecodeError as e:
-        raise ScenarioError(f"{source}: not valid TOML: {e}") from None
-    except ValidationError as e:
-        raise ScenarioError(_one_line(e, source)) from None
+    return validated(DynamicsScenario, parse_toml(text, source), source)
 
 
 @functools.lru_cache(maxsize=4)
@@ -126,11 +136,27 @@ def _on_profiles(scenario, speed, fields):
     return TableBogieModel.cooperrider(speed, table, **fields)
 
 
+def _typed(cls, fields):
+    """Refuse a name where ``cls`` (a model dataclass) takes a number, or a number where it takes a name."""
+    from dataclasses import fields as dataclass_fields
+
+    names = {f.name for f in dataclass_fields(cls) if f.type in (str, "str")}
+    for name, value in fields.items():
+        if (name in names) != isinstance(value, str):
+            raise ScenarioError(f"model.{name}: must be {'a name' if name in names else 'a number'}, got {value!r}")
+
+
 def build(scenario: DynamicsScenario, speed):
     """The model of the scenario at ``speed`` (m/s)."""
-    from railwear.dynamics import build_model
+    from railwear.dynamics import BogieModel, build_model
+    from railwear.dynamics.models import MODEL_KINDS
 
     fields = {k: v for k, v in scenario.model.model_dump().items() if k not in ("kind", "out_of_round", "profiles")}
+    kind = scenario.model.kind
+    if scenario.model.profiles is None:
+        _typed(BogieModel if kind == "cooperrider" else MODEL_KINDS[kind], fields)
+    else:
+        _typed(MODEL_KINDS["table_bogie" if kind == "cooperrider" else "table_wheelset"], fields)
     if scenario.model.profiles is not None:
         return _on_profiles(scenario, speed, fields)
     if scenario.model.kind == "cooperrider":

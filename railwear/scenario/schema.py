@@ -1,9 +1,14 @@
-"""The scenario schema: frozen pydantic models with physical bounds; units in the field names."""
+"""The scenario schema: frozen pydantic models with physical bounds; units in the field names.
+
+Every number a user types has a lower and an upper bound: a value outside what a railway wheel
+can be (a 1e-30 m wheel, a 1e300 N/m spring) would otherwise run into a division by zero, an
+overflow or a run that never ends. Types are strict: ``true`` is not a number, ``2.0`` not a count.
+"""
 
 from typing import Annotated, ClassVar, Literal
 
-from pydantic import (BaseModel, ConfigDict, Field, SerializeAsAny, ValidationError, field_validator,
-                      model_validator)
+from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, SerializeAsAny, ValidationError,
+                      field_validator, model_validator)
 
 from railwear.units import GPA, UG, kmh_to_m_s
 
@@ -11,21 +16,47 @@ Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 
+SPEED_KMH = (1.0, 1000.0)  # walking pace to above the wheel-rail record (575 km/h)
+Speed_kmh = Annotated[float, Field(ge=SPEED_KMH[0], le=SPEED_KMH[1])]
+Speed_m_s = Annotated[float, Field(ge=kmh_to_m_s(SPEED_KMH[0]), le=kmh_to_m_s(SPEED_KMH[1]))]
+Stiffness = Annotated[float, Field(ge=0, le=1e11)]  # N/m: above a rigid steel contact (~1e9)
+Damping = Annotated[float, Field(ge=0, le=1e8)]  # N s/m: far above any rail pad or damper
+Mass = Annotated[float, Field(ge=1, le=1e5)]  # kg: a roller-rig wheel to a locomotive bogie
+Coefficient = Annotated[float, Field(ge=-1e9, le=1e9)]  # h's terms (m per unit life): 1e9 overflows nothing
+Count = Annotated[int, Field(ge=1, le=32768)]  # polygon orders: half the finest grid
+MAX_LIST = 10000  # per-speed tables, batches and harmonics: more is a mistake, not a study
+MAX_STEPS = 10**6  # fixed time steps of one run: beyond this it does not end in a working day
+
+
+def _printable(text, allowed=""):
+    bad = [c for c in text if (ord(c) < 32 or ord(c) == 127) and c not in allowed]
+    if bad:
+        raise ValueError(f"must not contain control characters (U+{ord(bad[0]):04X})")
+    return text
+
+
+Name = Annotated[str, Field(max_length=200), AfterValidator(_printable)]
+Text = Annotated[str, Field(max_length=10000), AfterValidator(lambda t: _printable(t, "\t\n\r"))]
+PathText = Annotated[str, Field(min_length=1, max_length=4096), AfterValidator(_printable)]
+
 
 class _Section(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True, allow_inf_nan=False)
 
 
 class Wheel(_Section):
-    radius_m: Positive = 0.46
-    unsprung_mass_kg: Positive = 1000.0
-    static_load_kN: Positive = 80.0
+    """The wheel: a radius from a scaled roller rig's (5 cm) to twice a locomotive's, a load up to
+    five times a heavy-haul wheel's (200 kN)."""
+
+    radius_m: Annotated[float, Field(ge=0.05, le=2.0)] = 0.46
+    unsprung_mass_kg: Mass = 1000.0
+    static_load_kN: Annotated[float, Field(ge=0.01, le=1000)] = 80.0
 
 
 class Contact(_Section):
-    youngs_modulus_GPa: Positive = 210.0
+    youngs_modulus_GPa: Annotated[float, Field(ge=1, le=1000)] = 210.0  # polymers to carbides
     poisson: Annotated[float, Field(ge=0, lt=0.5)] = 0.28
-    rail_head_radius_m: Positive = 0.3
+    rail_head_radius_m: Annotated[float, Field(ge=0.01, le=100)] = 0.3  # 100 m: a flat head
     friction_coefficient: Annotated[float, Field(gt=0, le=2)] = 0.3
     traction_coefficient: Annotated[float, Field(gt=0, le=1)] = 0.05
     load_scatter: Annotated[float, Field(ge=0.01, le=1)] = 0.2
@@ -38,7 +69,7 @@ class WearSection(_Section):
     with :func:`wear_section`; its ``build()`` returns the law in SI units."""
 
     law: str
-    band_width_mm: Positive | None = None
+    band_width_mm: Annotated[float, Field(gt=0, le=1000)] | None = None
 
     def build(self):
         """The :class:`~railwear.wear.WearLaw` of the section."""
@@ -61,7 +92,7 @@ class Wear(WearSection):
     ``density_kg_m3``."""
 
     law: Literal["energy"] = "energy"
-    specific_wear_ug_per_J: Positive = 5.3
+    specific_wear_ug_per_J: Annotated[float, Field(gt=0, le=1e5)] = 5.3
     density_kg_m3: Annotated[float, Field(ge=1000, le=25000, allow_inf_nan=False)] = 7850.0
 
     def build(self):
@@ -122,9 +153,9 @@ def _section_of(registry, key, default, what):
 
 
 class Operation(_Section):
-    speed_kmh: Positive | list[Positive] | None = None
-    speed_m_s: Positive | list[Positive] | None = None
-    life_distance_km: Positive = 50000.0
+    speed_kmh: Speed_kmh | Annotated[list[Speed_kmh], Field(max_length=MAX_LIST)] | None = None
+    speed_m_s: Speed_m_s | Annotated[list[Speed_m_s], Field(max_length=MAX_LIST)] | None = None
+    life_distance_km: Annotated[float, Field(ge=1e-3, le=1e8)] = 50000.0  # a metre to 40 wheel lives
 
     @model_validator(mode="after")
     def _one_speed(self):
@@ -151,14 +182,14 @@ class WearRate(_Section):
     wheel at ``-(drift_rad - dispersion_rad3 n²)`` rad), each one value or one per ``table_speed_kmh``."""
 
     form: Literal["disk_contact", "cubic", "table"] = "disk_contact"
-    c0: Finite = 0.0
-    c1: Finite = 0.0
-    c3: Finite = 0.0
-    curvature_m: list[Finite] | None = None
-    table_speed_kmh: list[Positive] | None = None
-    rate_m: list[Finite] | list[list[Finite]] | None = None
-    drift_rad: Finite | list[Finite] = 0.0
-    dispersion_rad3: Finite | list[Finite] = 0.0
+    c0: Coefficient = 0.0
+    c1: Coefficient = 0.0
+    c3: Coefficient = 0.0
+    curvature_m: Annotated[list[Annotated[float, Field(ge=-10, le=10)]], Field(min_length=1, max_length=MAX_LIST)] | None = None
+    table_speed_kmh: Annotated[list[Speed_kmh], Field(min_length=1, max_length=MAX_LIST)] | None = None
+    rate_m: list[Coefficient] | list[list[Coefficient]] | None = None
+    drift_rad: Coefficient | list[Coefficient] = 0.0
+    dispersion_rad3: Coefficient | list[Coefficient] = 0.0
 
     @model_validator(mode="after")
     def _table_given(self):
@@ -166,20 +197,20 @@ class WearRate(_Section):
             raise ValueError("form 'table' needs curvature_m and rate_m")
         for name in ("drift_rad", "dispersion_rad3"):
             value = getattr(self, name)
-            if isinstance(value, list) and len(value) != len(self.table_speed_kmh or []):
-                raise ValueError(f"{name}: a list needs one value per table_speed_kmh")
+            if isinstance(value, list) and (self.table_speed_kmh is None or len(value) != len(self.table_speed_kmh)):
+                raise ValueError(f"{name}: a list needs table_speed_kmh and one value per table speed")
         return self
 
 
 class Solver(_Section):
     points: Annotated[int, Field(ge=16, le=65536)] = 512
-    epsilon: NonNegative = 1e-4
-    nu: NonNegative = 1e-3
-    t_end: Positive = 1.0
-    depth_limit_mm: Positive | None = 1.0
+    epsilon: Annotated[float, Field(ge=0, le=1e3)] = 1e-4
+    nu: Annotated[float, Field(ge=0, le=1e3)] = 1e-3
+    t_end: Annotated[float, Field(gt=0, le=1e3)] = 1.0  # normed lives
+    depth_limit_mm: Annotated[float, Field(ge=1e-6, le=100)] | None = 1.0  # a wheel has ~40 mm to lose
     n_save: Annotated[int, Field(ge=2, le=100000)] = 101
     dealias: bool = True
-    dt: Positive | None = None
+    dt: Annotated[float, Field(gt=0, le=1e3)] | None = None
 
     @field_validator("points")
     @classmethod
@@ -188,17 +219,25 @@ class Solver(_Section):
             raise ValueError("must be even")
         return v
 
+    @model_validator(mode="after")
+    def _steps(self):
+        """A guard on the step count, not on the clock: a fixed ``dt`` may not take more than
+        :data:`MAX_STEPS` steps to ``t_end``."""
+        if self.dt is not None and self.t_end / self.dt > MAX_STEPS:
+            raise ValueError(f"dt: t_end / dt = {self.t_end / self.dt:.3g} steps, more than {MAX_STEPS:.0e}")
+        return self
+
 
 class Initial(_Section):
     kind: Literal["random", "harmonics", "measured", "round"] = "random"
-    rms_um: NonNegative = 40.0
-    lowest_order: Annotated[int, Field(ge=1)] = 2
-    highest_order: Annotated[int, Field(ge=1)] = 16
-    seed: Annotated[int, Field(ge=0)] = 1
-    orders: list[Annotated[int, Field(ge=1)]] | None = None
-    amplitudes_um: list[Finite] | None = None
-    phases_deg: list[Finite] | None = None
-    file: str | None = None
+    rms_um: Annotated[float, Field(ge=0, le=1e4)] = 40.0  # 10 mm out of round is long past scrap
+    lowest_order: Count = 2
+    highest_order: Count = 16
+    seed: Annotated[int, Field(ge=0, lt=2**64)] = 1
+    orders: Annotated[list[Count], Field(max_length=MAX_LIST)] | None = None
+    amplitudes_um: Annotated[list[Annotated[float, Field(ge=-1e4, le=1e4)]], Field(max_length=MAX_LIST)] | None = None
+    phases_deg: Annotated[list[Annotated[float, Field(ge=-360, le=360)]], Field(max_length=MAX_LIST)] | None = None
+    file: PathText | None = None
 
     @model_validator(mode="after")
     def _complete(self):
@@ -275,7 +314,7 @@ class StepwiseSection(StrategySection):
     kind: Literal["stepwise"] = "stepwise"
     bodies: ClassVar[tuple] = ("disk_wheel", "wheelset")
     disk_wheel_only: ClassVar[tuple] = ("revolutions", "transient_revolutions")
-    step_limit_um: Positive = 10.0
+    step_limit_um: Annotated[float, Field(gt=0, le=1e6)] = 10.0
     step_limit_on: Literal["u", "shape"] = "u"
     scheme: Literal["euler", "adams-bashforth"] = "euler"
     samples: Annotated[int, Field(ge=2, le=100000)] = 8
@@ -304,13 +343,13 @@ class DiskWheel(_Section):
     ``[wheel]`` and ``[contact]``. A rail mass on pads gives the P2 resonance.
     """
 
-    wheel_inertia_kg_m2: Positive = 80.0
-    primary_stiffness_N_m: NonNegative = 1.2e6
-    primary_damping_N_s_m: NonNegative = 2e4
-    sprung_mass_kg: Positive | None = None
-    rail_mass_kg: Positive | None = 150.0
-    pad_stiffness_N_m: Positive = 1e8
-    pad_damping_N_s_m: NonNegative = 6e4
+    wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = 80.0
+    primary_stiffness_N_m: Stiffness = 1.2e6
+    primary_damping_N_s_m: Damping = 2e4
+    sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = None  # up to a loaded wagon
+    rail_mass_kg: Mass | None = 150.0
+    pad_stiffness_N_m: Annotated[float, Field(ge=1e3, le=1e11)] = 1e8
+    pad_damping_N_s_m: Damping = 6e4
 
 
 class Wheelset(_Section):
@@ -321,12 +360,12 @@ class Wheelset(_Section):
     gauge) on stiff primary springs.
     """
 
-    mass_kg: Positive = 1022.0
-    yaw_inertia_kg_m2: Positive = 678.0
-    lateral_stiffness_N_m: NonNegative = 1.823e6
-    yaw_stiffness_N_m_rad: NonNegative = 3.646e6
-    half_gauge_m: Positive = 0.7163
-    conicity: Positive = 0.05
+    mass_kg: Annotated[float, Field(ge=10, le=1e5)] = 1022.0
+    yaw_inertia_kg_m2: Annotated[float, Field(ge=1, le=1e5)] = 678.0
+    lateral_stiffness_N_m: Stiffness = 1.823e6
+    yaw_stiffness_N_m_rad: Stiffness = 3.646e6
+    half_gauge_m: Annotated[float, Field(ge=0.15, le=1.5)] = 0.7163  # 300 mm gauge to twice broad gauge
+    conicity: Annotated[float, Field(gt=0, le=1)] = 0.05
 
 
 class WheelsetWear(_Section):
@@ -362,21 +401,21 @@ class WheelsetWear(_Section):
     ``output_rate_Hz`` the output times of the dynamics per simulated second.
     """
 
-    wheel_profile: str = "S1002"
-    rail_profile: str = "UIC60"
+    wheel_profile: PathText = "S1002"
+    rail_profile: PathText = "UIC60"
     shift_max_mm: Annotated[float, Field(gt=0, le=50, allow_inf_nan=False)] = 10.0
     shift_step_mm: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)] = 0.1
-    lateral_min_mm: Finite = -50.0
-    lateral_max_mm: Finite = 40.0
+    lateral_min_mm: Annotated[float, Field(ge=-200, le=200)] = -50.0  # a tread is ~140 mm wide
+    lateral_max_mm: Annotated[float, Field(ge=-200, le=200)] = 40.0
     lateral_cells: Annotated[int, Field(ge=2, le=10000)] = 180
     angle_cells: Annotated[int, Field(ge=4, le=100000)] = 64
-    transient_s: NonNegative = 3.0
-    offset_min_mm: NonNegative = 1.0
-    offset_max_mm: NonNegative = 3.0
-    output_rate_Hz: Positive = 2000.0
+    transient_s: Annotated[float, Field(ge=0, le=3600)] = 3.0  # simulated seconds: an hour is plenty
+    offset_min_mm: Annotated[float, Field(ge=0, le=50)] = 1.0  # past the flange at ~10 mm
+    offset_max_mm: Annotated[float, Field(ge=0, le=50)] = 3.0
+    output_rate_Hz: Annotated[float, Field(ge=1, le=1e6)] = 2000.0
     footprint: Literal["hertz", "uniform"] = "hertz"
-    seconds_per_sample_s: Positive = 2.0
-    update_interval_s: Positive = 0.5
+    seconds_per_sample_s: Annotated[float, Field(gt=0, le=3600)] = 2.0
+    update_interval_s: Annotated[float, Field(ge=1e-4, le=3600)] = 0.5
 
     @model_validator(mode="after")
     def _ranges(self):
@@ -392,13 +431,13 @@ class WheelsetWear(_Section):
 class Service(_Section):
     """Scatter of the service conditions, for forecasts: speed peaks with weights, load, friction."""
 
-    speed_kmh: list[Positive] | None = None
-    speed_weights: list[Annotated[float, Field(ge=0, allow_inf_nan=False)]] | None = None
-    speed_scatter_kmh: NonNegative = 0.0
+    speed_kmh: Annotated[list[Speed_kmh], Field(min_length=1, max_length=MAX_LIST)] | None = None
+    speed_weights: Annotated[list[Annotated[float, Field(ge=0, le=1)]], Field(max_length=MAX_LIST)] | None = None
+    speed_scatter_kmh: Annotated[float, Field(ge=0, le=SPEED_KMH[1])] = 0.0
     load_scatter: Annotated[float, Field(ge=0, lt=0.5)] = 0.0
-    friction_range: list[Positive] | None = None
+    friction_range: list[Annotated[float, Field(gt=0, le=2)]] | None = None
     samples: Annotated[int, Field(ge=1, le=100000)] = 64
-    seed: Annotated[int, Field(ge=0)] = 0
+    seed: Annotated[int, Field(ge=0, lt=2**64)] = 0
 
     @model_validator(mode="after")
     def _distribution(self):
@@ -416,8 +455,8 @@ class Service(_Section):
 class Scenario(_Section):
     """A whole railwear run: wheel, contact, wear, operation, h, solver and initial state."""
 
-    name: str = "unnamed"
-    description: str = ""
+    name: Name = "unnamed"
+    description: Text = ""
     wheel: Wheel = Wheel()
     contact: Contact = Contact()
     wear: SerializeAsAny[WearSection] = Wear()
