@@ -189,6 +189,20 @@ def warm_up(seconds):
     return os.getpid()
 
 
+def _exit_with_parent(parent):
+    """In a worker: exit as soon as the process that started it is gone (a sweep killed with
+    ``kill -9`` cannot stop its workers, which would go on writing points)."""
+    import threading
+    import time
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()
+
+
 class LocalExecutor:
     """Worker processes on this machine (``workers`` defaults to the number of cores).
 
@@ -202,7 +216,8 @@ class LocalExecutor:
         import multiprocessing
 
         self.workers = workers or os.cpu_count() or 1
-        self.pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"))
+        self.pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"),
+                                        initializer=_exit_with_parent, initargs=(os.getpid(),))
         for f in [self.pool.submit(warm_up, 0.5) for _ in range(self.workers)]:
             f.result()
 

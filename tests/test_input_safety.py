@@ -300,3 +300,31 @@ def test_a_sweep_records_a_bad_point_and_recomputes_a_cut_file(tmp_path):
     point.write_bytes(point.read_bytes()[:200])
     again = run_sweep(base, varies, tmp_path, executor=SerialExecutor(), batch=False)
     assert float(again.maxima[2]) == float(ds.maxima[2]) and results.read_netcdf(point).sizes
+
+
+def test_the_workers_of_a_killed_sweep_exit(tmp_path):
+    """``kill -9`` of the process running a sweep: its local workers exit instead of going on."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = ("import os, sys, time\nfrom railwear.sweep import LocalExecutor\nex = LocalExecutor(1)\n"
+              "print(*[p.pid for p in ex.pool._processes.values()], flush=True)\ntime.sleep(60)\n")
+    parent = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    workers = [int(p) for p in parent.stdout.readline().split()]
+    assert workers
+    parent.send_signal(signal.SIGKILL)
+    parent.wait()
+    for _ in range(40):
+        alive = []
+        for pid in workers:
+            try:
+                os.kill(pid, 0)
+                alive.append(pid)
+            except ProcessLookupError:
+                pass
+        if not alive:
+            break
+        time.sleep(0.25)
+    assert not alive
