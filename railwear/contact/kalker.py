@@ -8,11 +8,15 @@ Linear theory (Kalker 1967; 1990, App. E), creepages ξ (longitudinal), η (late
     Mz =  G c³ C23 η - G c⁴ C33 φ
 
 Coefficients: Kalker's table (1990, Table E.3) at a/b and b/a = 0.1, 0.2, ..., 1 and Poisson
-ratios 0, 0.25, 0.5. Between rows the table is interpolated linearly in ``g = min(a/b, b/a)``,
-between Poisson ratios by the parabola through ``1/C`` at the three tabulated ratios (the scheme
-of the CONTACT program). Below g = 0.1 Kalker's slender-ellipse asymptotes are used, scaled by a
-constant so that they meet the table at g = 0.1: the raw asymptotes differ from the tabulated
-g = 0.1 values by up to 5 %, and railwear keeps the coefficients continuous (CONTACT jumps).
+ratios 0, 0.25, 0.5. Between rows the table is interpolated linearly in ``g = min(a/b, b/a)``
+from g = 0.2 up (CONTACT's scheme; the columns are nearly straight there: within 5.4 % of a
+smooth curve through the nodes on 0.2-0.3, 2.5 % on 0.3-0.4, 1.4 % above), and by a monotone cubic Hermite between
+g = 0.1 and 0.2, where linear interpolation lies up to 17 % above that curve (C23 of long
+patches), exact at the nodes and with a continuous slope at both ends (``_first_interval_slopes``).
+Between Poisson ratios: the parabola through ``1/C`` at the three tabulated ratios (CONTACT's
+scheme). Below g = 0.1 Kalker's slender-ellipse asymptotes are used, scaled by a constant so that
+they meet the table at g = 0.1: the raw asymptotes differ from the tabulated g = 0.1 values by up
+to 5 %, and railwear keeps the coefficients continuous (CONTACT jumps).
 
 C33 is not in CONTACT's table; railwear carries Kalker's C33 column as reproduced in the
 literature (not checked against Kalker's book here). It agrees with Kalker's asymptote
@@ -103,20 +107,56 @@ def _asymptote(case, k, g, nu):
     return 2.0 * np.pi / (3.0 * g**1.5 * ((1.0 - nu) * lam - 2.0 + 4.0 * nu))
 
 
+def _first_interval_slopes():
+    """dC/dg [-] at g = 0.1 and 0.2 of every column of the table, [case, node, k, j], for the
+    cubic Hermite between them (the rows above stay linear in g).
+
+    At g = 0.2: the secant to g = 0.3, so that C' is continuous into the linear part. At g = 0.1:
+    the slope of the branch below the table, so that C' is continuous there too, except where that
+    branch says nothing of the curve's shape (C11 and C22 of short patches: Kalker's constant
+    limits; C33 of long patches: railwear's closure): there PCHIP's one-sided end slope
+    ``(3 d01 - d12) / 2``. Both stay within [0, 3] times the secant over 0.1 ... 0.2, so the cubic
+    is monotone (Fritsch & Carlson).
+    """
+    asymptote = _asymptote.py_func  # the plain function: nothing is compiled at import
+    step = 1e-6
+    d = np.diff(KALKER_TABLE[:, :3], axis=1) / 0.1  # secants over 0.1-0.2 and 0.2-0.3
+    slopes = np.empty((2, 2, 4, 3))
+    slopes[:, 1] = d[:, 1]
+    for case in range(2):
+        for k in range(4):
+            for j in range(3):
+                v0, nu = KALKER_TABLE[case, 0, k, j], _NU_NODES_ARR[j]
+                if (case == 0 and k < 2) or (case == 1 and k == 3):
+                    slopes[case, 0, k, j] = 0.5 * (3.0 * d[case, 0, k, j] - d[case, 1, k, j])
+                else:  # d/dg of C(0.1) asymptote(g) / asymptote(0.1)
+                    slopes[case, 0, k, j] = v0 * (asymptote(case, k, 0.1 + step, nu) - asymptote(case, k, 0.1 - step, nu)) / (
+                        2.0 * step * asymptote(case, k, 0.1, nu))
+    return slopes
+
+
+_SLOPES = _first_interval_slopes()
+
+
 @njit(cache=True)
 def _node_value(case, k, j, g):
-    """Coefficient k at the tabulated Poisson ratio j, any g in (0, 1] (table or matched asymptote)."""
-    gt = max(g, 0.1)
-    r = min(int((gt - 0.1) * 10.0 + 1e-9), 8)
-    w = (gt - _G_NODES[r]) / (_G_NODES[r + 1] - _G_NODES[r])
-    value = (1.0 - w) * KALKER_TABLE[case, r, k, j] + w * KALKER_TABLE[case, r + 1, k, j]
-    if g >= 0.1:
-        return value
+    """Coefficient k at the tabulated Poisson ratio j, any g in (0, 1]: linear in g between the
+    rows from g = 0.2, a cubic Hermite between 0.1 and 0.2, the matched asymptote below."""
     nu = _NU_NODES_ARR[j]
-    if case == 1 and k == 3:  # C33 of long patches: close the gap to its limit linearly in 1/Lambda
-        limit = np.pi / 4.0 * (1.0 - 2.0 * nu) / (1.0 - nu)
-        return limit + (value - limit) * _LAMBDA_01 / np.log(16.0 / (g * g))
-    return value * _asymptote(case, k, g, nu) / _asymptote(case, k, 0.1, nu)
+    if g < 0.1:
+        value = KALKER_TABLE[case, 0, k, j]
+        if case == 1 and k == 3:  # C33 of long patches: close the gap to its limit linearly in 1/Lambda
+            limit = np.pi / 4.0 * (1.0 - 2.0 * nu) / (1.0 - nu)
+            return limit + (value - limit) * _LAMBDA_01 / np.log(16.0 / (g * g))
+        return value * _asymptote(case, k, g, nu) / _asymptote(case, k, 0.1, nu)
+    r = min(int((g - 0.1) * 10.0 + 1e-9), 8)
+    h = _G_NODES[r + 1] - _G_NODES[r]
+    t = (g - _G_NODES[r]) / h
+    v0, v1 = KALKER_TABLE[case, r, k, j], KALKER_TABLE[case, r + 1, k, j]
+    if r > 0:
+        return (1.0 - t) * v0 + t * v1
+    m0, m1 = _SLOPES[case, 0, k, j] * h, _SLOPES[case, 1, k, j] * h
+    return v0 + t * t * (3.0 - 2.0 * t) * (v1 - v0) + t * (1.0 - t) * ((1.0 - t) * m0 - t * m1)
 
 
 @njit(cache=True)
