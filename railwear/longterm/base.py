@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from railwear.errors import ScenarioError
+from railwear.registry import Registered
 from railwear.units import KM
 
 MANDATORY = ("u", "removed_depth", "stop_time")
@@ -39,17 +40,10 @@ COORDINATES = ("time", "distance", "speed")
 ATTRIBUTES = ("strategy", "body", "scenario_hash")
 
 
-class Strategy(ABC):
+class Strategy(Registered, ABC):
     """A long-term strategy; subclasses register with ``class X(Strategy, name="x")``."""
 
     registry: dict = {}
-    name: str = ""
-
-    def __init_subclass__(cls, name=None, **kwargs):
-        super().__init_subclass__(**kwargs)
-        if name is not None:
-            cls.name = name
-            Strategy.registry[name] = cls
 
     @abstractmethod
     def run(self, u0=None, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):

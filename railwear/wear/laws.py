@@ -22,6 +22,7 @@ from typing import Callable
 import numpy as np
 
 from railwear.errors import ScenarioError
+from railwear.registry import Registered
 from railwear.units import MM2, UG
 
 
@@ -38,17 +39,10 @@ class ContactSample:
     patch_area: np.ndarray
 
 
-class WearLaw(ABC):
+class WearLaw(Registered, ABC):
     """A wear law; subclasses register with ``class X(WearLaw, name="x")``."""
 
     registry: dict = {}
-    name: str = ""
-
-    def __init_subclass__(cls, name=None, **kwargs):
-        super().__init_subclass__(**kwargs)
-        if name is not None:
-            cls.name = name
-            WearLaw.registry[name] = cls
 
     @abstractmethod
     def volume_rate_of(self, contact: ContactSample):
