@@ -1,0 +1,241 @@
+"""The Fourier technique on a wheel over the discretely supported track (issue 11, part 3).
+
+The wheel is the disk wheel of :class:`~railwear.dynamics.DiskWheelModel` on a rigid rail
+(unsprung mass, primary suspension to a sprung mass or a rigid frame, Hertz contact, rotation
+with Kalker creep under a traction torque, frictional power ``Fx ξ V``); only the rail changes:
+the disk wheel's rail mass on a pad becomes the rail of :mod:`railwear.track`, through its exact
+receptance ``α(ω, d)`` at the wheel's offset ``d`` past a sleeper.
+
+Linearisation (deviations from steady rolling, ``e^{iωt}``): the compiled disk-wheel kernel
+linearised on a rigid rail, ``x' = A x + B ū + a_r z_r``, ``y = C x + D ū + c_r z_r`` with
+``y = (N, ξ, Fx, π)``, where ``a_r, c_r`` are the columns of the rail displacement ``z_r``
+(upward), which enters only the approach ``δ = δ0 + z_r - z_w + ū``. Per unit ``ū``:
+
+    G_u = C (iω - A)^-1 B + D,   G_r = C (iω - A)^-1 a_r + c_r
+    z_r = -α N  (the rail goes down under the wheel's load)  =>  z_r = -α G_u,N / (1 + α G_r,N)
+    H(ω, d) = G_u + G_r z_r
+
+For the normal force this is ``1 / (α_w + 1/k_c + α)``: wheel, contact and rail receptances in
+series. Over the bay the transfer is averaged at ``n`` equally spaced offsets ``d_j = j L / n``
+(the periodic trapezoidal rule, sleeper and, for even ``n``, midspan among them; ``d`` and
+``L - d`` give the same point receptance, so about half are evaluated): the wheel is frozen at
+each offset, which holds while the receptance varies little over the bay (within a few per cent
+below 500 Hz) and not near the pinned-pinned frequency.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from railwear.contact import contact_constants
+from railwear.dynamics import DiskWheelModel
+from railwear.errors import ScenarioError
+from railwear.longterm.fourier import Fourier, stability_map
+from railwear.track import Support, Track, rail, receptance
+
+__all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "METRO", "bay_offsets"]
+
+GRAVITY = 9.81  # m/s²
+_RAIL_STATE = 6  # z_r in the disk wheel's state vector
+_WHEEL_STATES = slice(0, 6)  # phi, Omega, z_w, z_w', z_s, z_s'
+
+
+def bay_offsets(track: Track, positions):
+    """Offsets ``d`` (m past a sleeper) and weights of the average over the bay.
+
+    ``positions``: an integer ``n >= 1`` (the mean over ``d_j = j L / n``, mirror images folded
+    together), or one position (``"midspan"``, ``"sleeper"`` or metres) with weight 1. A
+    continuous track has one offset."""
+    if isinstance(positions, (str, float)):
+        return [positions], np.ones(1)
+    if not isinstance(positions, (int, np.integer)) or isinstance(positions, bool) or positions < 1:
+        raise ScenarioError(f"positions: must be an integer >= 1, 'midspan', 'sleeper' or metres, got {positions!r}")
+    if not track.discrete:
+        return ["sleeper"], np.ones(1)
+    n = int(positions)
+    j = np.arange(n // 2 + 1)
+    weights = np.where((j == 0) | (2 * j == n), 1.0, 2.0)
+    return [float(x) for x in j * track.sleeper_spacing / n], weights / n
+
+
+@dataclass(frozen=True, eq=False)
+class VehicleTrackModel:
+    """A disk wheel (``wheel``, on a rigid rail: ``rail_mass=None``) on the rail of ``track``.
+
+    Has what :meth:`Fourier.disk_wheel` reads of a :class:`DiskWheelModel` (``speed``,
+    ``radius``, ``traction_torque``, ``static_load``, ``patch_half_length``,
+    ``steady_creepage()``, ``transfer``, ``contact_force_transfer``), so that constructor and
+    :func:`~railwear.longterm.fourier.stability_map` take it unchanged. ``positions``: see
+    :func:`bay_offsets`."""
+
+    wheel: DiskWheelModel
+    track: Track
+    positions: int | str | float = 8
+
+    def __post_init__(self):
+        if not isinstance(self.wheel, DiskWheelModel):
+            raise ScenarioError("wheel: must be a DiskWheelModel")
+        if not isinstance(self.track, Track):
+            raise ScenarioError("track: must be a railwear.track.Track")
+        if self.wheel.rail_mass is not None:
+            raise ScenarioError("wheel.rail_mass: must be None, the track replaces the rail mass on a pad")
+        offsets, weights = bay_offsets(self.track, self.positions)
+        object.__setattr__(self, "_offsets", offsets)
+        object.__setattr__(self, "_weights", weights)
+        object.__setattr__(self, "_linear", self.wheel.linearisation())
+        object.__setattr__(self, "_cache", {})
+
+    speed = property(lambda self: self.wheel.speed)
+    radius = property(lambda self: self.wheel.radius)
+    traction_torque = property(lambda self: self.wheel.traction_torque)
+    static_load = property(lambda self: self.wheel.static_load)
+    patch_half_length = property(lambda self: self.wheel.patch_half_length)
+    LINEAR_OUTPUTS = DiskWheelModel.LINEAR_OUTPUTS
+
+    def steady_creepage(self) -> float:
+        """The wheel's steady creepage under its traction torque (the track carries no traction)."""
+        return self.wheel.steady_creepage()
+
+    def rail_receptance(self, angular_frequency) -> np.ndarray:
+        """``α(ω, d_j)`` [m/N] at the bay offsets, ``(offsets, len(ω))``; kept for the last ``ω``
+        given (see :meth:`remember`)."""
+        omega = np.atleast_1d(np.asarray(angular_frequency, float))
+        key = omega.tobytes()
+        if key not in self._cache:
+            f = omega / (2 * np.pi)
+            self._cache.clear()
+            self._cache[key] = np.array([receptance(self.track, f, d) for d in self._offsets])
+        return self._cache[key]
+
+    def remember(self, angular_frequency, alpha):
+        """Use ``alpha`` (``(offsets, len(ω))``, m/N) as the rail receptance at these ``ω``
+        (rad/s): a map evaluates the track once for all speeds."""
+        omega = np.atleast_1d(np.asarray(angular_frequency, float))
+        self._cache.clear()
+        self._cache[omega.tobytes()] = np.asarray(alpha, complex)
+
+    def wheel_terms(self, angular_frequency):
+        """``(G_u, G_r)``, ``(len(ω), 4)`` each: the outputs ``(N, ξ, Fx, π)`` per unit ``ū`` and
+        per unit upward rail displacement of the wheel on a rigid rail."""
+        a, b, c, d = self._linear
+        omega = np.atleast_1d(np.asarray(angular_frequency, float))
+        keep = _WHEEL_STATES
+        A = a[keep, keep]
+        M = 1j * omega[:, None, None] * np.eye(A.shape[0]) - A
+        rhs = np.column_stack([b[keep], a[keep, _RAIL_STATE]]).astype(complex)
+        X = np.linalg.solve(M, np.broadcast_to(rhs, (omega.size,) + rhs.shape))
+        G = c[None, :, keep] @ X + np.column_stack([d, c[:, _RAIL_STATE]])[None]
+        return G[..., 0], G[..., 1]
+
+    def transfer(self, angular_frequency, output="frictional_power") -> np.ndarray:
+        """Bay-averaged transfer from ``ū`` to ``output`` (one of ``LINEAR_OUTPUTS``) at
+        ``angular_frequency`` [rad/s]: ``Σ_j w_j H(ω, d_j)``, complex (units of the output per m)."""
+        if output not in self.LINEAR_OUTPUTS:
+            raise ScenarioError(f"output: must be one of {self.LINEAR_OUTPUTS}, got {output!r}")
+        row = self.LINEAR_OUTPUTS.index(output)
+        gu, gr = self.wheel_terms(angular_frequency)
+        alpha = self.rail_receptance(angular_frequency)
+        z = -alpha * gu[:, 0] / (1 + alpha * gr[:, 0])
+        out = self._weights @ (gu[:, row] + gr[:, row] * z)
+        return out if np.ndim(angular_frequency) else out[0]
+
+    def contact_force_transfer(self, angular_frequency) -> np.ndarray:
+        """``N̂ / ū`` [N/m], bay-averaged: ``1 / (α_w + 1/k_c + α)`` at each offset."""
+        return self.transfer(angular_frequency, "normal_force")
+
+
+def vehicle_track_fourier(wheel, track, speed, law, band_width, positions=8, driver="frictional_power") -> Fourier:
+    """:class:`Fourier` rates of ``wheel`` (a rigid-rail :class:`DiskWheelModel`) on ``track`` at
+    ``speed`` (m/s), as :meth:`Fourier.disk_wheel` gives them for the disk wheel."""
+    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions)
+    return Fourier.disk_wheel(model, law, band_width, driver)
+
+
+def growth_map(wheel, track, speeds, orders, law, band_width, positions=8, driver="frictional_power"):
+    """:func:`stability_map` (growth per km over speed × order) of ``wheel`` on ``track``, with the
+    rail receptance evaluated once per bay offset for every speed's frequencies ``n Ω``."""
+    speeds = np.atleast_1d(np.asarray(speeds, float))
+    n = np.asarray(np.atleast_1d(orders), float)
+    models = {v: VehicleTrackModel(dataclasses.replace(wheel, speed=float(v)), track, positions) for v in speeds}
+    omegas = [n * (v * (1 + m.steady_creepage()) / m.radius) for v, m in models.items()]
+    first = next(iter(models.values()))
+    alpha = first.rail_receptance(np.concatenate(omegas))
+    for (m, w), part in zip(zip(models.values(), omegas), np.split(alpha, len(omegas), axis=1)):
+        m.remember(w, part)
+    return stability_map(models.__getitem__, speeds, orders, law, band_width, driver)
+
+
+@dataclass(frozen=True)
+class VehicleCase:
+    """A named wheel on a named track, SI units, with the sources of its numbers.
+
+    Per wheel: ``static_load`` [N], ``unsprung_mass`` [kg] (half the wheelset), ``wheel_inertia``
+    [kg m²] (half the wheelset's polar inertia), ``sprung_mass`` [kg] (the bogie frame's share;
+    ``None``: rigid frame), ``primary_stiffness`` [N/m], ``primary_damping`` [N s/m]. Contact:
+    ``rail_head_radius`` [m] (the wheel tread taken flat across), ``traction_coefficient`` the
+    traction demand ``T / (W R0)``, steel ``youngs_modulus`` [Pa] and ``poisson``."""
+
+    name: str
+    diameter: float
+    static_load: float
+    unsprung_mass: float
+    wheel_inertia: float
+    sprung_mass: float | None
+    primary_stiffness: float
+    primary_damping: float
+    track: Track
+    traction_coefficient: float
+    band_width: float
+    rail_head_radius: float = 0.3
+    friction_coefficient: float = 0.4
+    youngs_modulus: float = 210e9
+    poisson: float = 0.28
+    sources: str = ""
+
+    def wheel(self, speed) -> DiskWheelModel:
+        """The rigid-rail disk wheel of this case at ``speed`` (m/s), Hertz and Kalker constants
+        from :func:`railwear.contact.contact_constants`."""
+        radius = self.diameter / 2
+        constants = contact_constants(self.static_load, 1 / (2 * radius), 1 / (2 * self.rail_head_radius),
+                                      self.youngs_modulus, self.poisson)
+        return DiskWheelModel(
+            speed=float(speed), radius=radius, wheel_mass=self.unsprung_mass, wheel_inertia=self.wheel_inertia,
+            static_load=self.static_load, hertz_constant=constants["hertz_constant"],
+            primary_stiffness=self.primary_stiffness, primary_damping=self.primary_damping, f11=constants["f11"],
+            sprung_mass=self.sprung_mass, friction_coefficient=self.friction_coefficient,
+            traction_torque=self.traction_coefficient * self.static_load * radius,
+            patch_half_length=constants["patch_half_length"])
+
+    def fourier(self, speed, law, positions=8, driver="frictional_power") -> Fourier:
+        """:func:`vehicle_track_fourier` of this case at ``speed`` (m/s)."""
+        return vehicle_track_fourier(self.wheel(speed), self.track, speed, law, self.band_width, positions, driver)
+
+    def growth_map(self, speeds, orders, law, positions=8, driver="frictional_power"):
+        """:func:`growth_map` of this case over ``speeds`` (m/s) and ``orders``."""
+        return growth_map(self.wheel(speeds[0]), self.track, speeds, orders, law, self.band_width, positions, driver)
+
+
+# Metro motor car, 14 t axle load, on ballasted track (sources in docs/vehicle_track.md).
+METRO = VehicleCase(
+    name="metro",
+    diameter=0.84,
+    static_load=(43.08e3 + 2 * 6.5e3) / 4 / 2 * GRAVITY,  # overcrowded motor car body + 2 bogies, per wheel
+    unsprung_mass=1539.0 / 2,
+    wheel_inertia=60.0,  # assumption: half a motored wheelset's polar inertia
+    sprung_mass=3420.0 / 4,  # motor bogie frame per wheel
+    primary_stiffness=1.7e6,  # per axle box
+    primary_damping=10e3,  # assumption: rubber primary, no vertical damper
+    track=Track(
+        rail("60E1", loss_factor=0.02),
+        Support(pad_stiffness=65e6, pad_damping=75e3, sleeper_mass=125.5, ballast_stiffness=137.75e6,
+                ballast_damping=58.8e3),
+        sleeper_spacing=0.6,
+    ),
+    traction_coefficient=0.05,  # assumption: a typical mean traction demand T / (W R0)
+    band_width=0.025,  # assumption: the lateral band the wear spreads over on straight track
+    sources="vehicle: Math. Probl. Eng. 2020, 1584624, Table 6; track: Zhai, Wang & Lin, JSV 270 (2004) 673",
+)
+
