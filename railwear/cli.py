@@ -315,13 +315,13 @@ def _parse_length(text, field):
     """``0.3mm``, ``300um`` or ``3e-4m`` in metres."""
     from railwear.units import MM, UM
 
-    from railwear.measured import NUMBER
+    from railwear.measured import BLANK, NUMBER
 
     units = {"mm": MM, "um": UM, "µm": UM, "m": 1.0}
     for suffix in ("mm", "um", "µm", "m"):
-        number = text.strip().removesuffix(suffix)
-        if number != text.strip():
-            if not NUMBER.fullmatch(number.strip()):
+        number = text.strip(BLANK).removesuffix(suffix)
+        if number != text.strip(BLANK):
+            if not NUMBER.fullmatch(number.strip(BLANK)):
                 break
             value = float(number) * units[suffix]
             if 0 < value <= 1.0:

@@ -26,6 +26,7 @@ ANGLE_UNITS = {"deg": np.pi / 180, "rad": 1.0}
 DEVIATION_UNITS = {"um": 1e-6, "mm": 1e-3, "m": 1.0}
 FULL_TURN = {"deg": 360.0, "rad": 2 * np.pi}
 GAP_FACTOR = 3.0  # a gap this many times the median spacing means the record is not closed
+BLANK = " \t"  # the only blanks allowed round a number
 NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
 LARGEST_DEVIATION = 50 * MM  # more than a wheel's whole wear allowance: not a measured wheel
 MAX_ROWS = 10**6
@@ -59,7 +60,7 @@ def _rows(path, where):
     rows = []
     try:
         for row in reader:
-            if row and any(c.strip() for c in row) and not row[0].lstrip().startswith("#"):
+            if row and any(c.strip(BLANK) for c in row) and not row[0].lstrip().startswith("#"):
                 rows.append((reader.line_num, row))
                 if len(rows) > MAX_ROWS + 1:
                     raise MeasuredFileError(f"{where}: more than {MAX_ROWS} rows")
@@ -70,7 +71,7 @@ def _rows(path, where):
 
 def _number(text, where, no, column, name):
     """A cell as a float by the grammar of :data:`NUMBER`, or an error naming line and column."""
-    text = text.strip()
+    text = text.strip(BLANK)
     at = f"{where} line {no}, column {column} ({name})"
     if text == "" or text.lower() in ("nan", "na", "null"):
         raise MeasuredFileError(f"{at}: missing value")

@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from railwear.errors import OptionError, RailwearError, ScenarioError
-from railwear.measured import NUMBER
+from railwear.measured import BLANK, NUMBER
 from railwear.scenario import Scenario, scenario_hash, to_toml, validated
 from railwear.units import GPA, KMH_PER_M_S, KN
 
@@ -50,7 +50,7 @@ def parse_values(spec, what):
     """``A:B:STEP`` (B included) or ``v1,v2,...`` as an array of finite numbers; anything else
     (a STEP of zero, NaN, more than :data:`MAX_VALUES` values) is an :class:`OptionError` naming ``what``."""
     def number(text):
-        text = text.strip()
+        text = text.strip(BLANK)
         if not NUMBER.fullmatch(text) or not np.isfinite(float(text)):
             raise ValueError
         return float(text)

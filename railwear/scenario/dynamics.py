@@ -143,7 +143,7 @@ def _typed(cls, fields):
     names = {f.name for f in dataclass_fields(cls) if f.type in (str, "str")}
     for name, value in fields.items():
         if (name in names) != isinstance(value, str):
-            raise ScenarioError(f"model.{name}: must be {'a name' if name in names else 'a number'}, got {value!r}")
+            raise ScenarioError(f"{name}: must be {'a name' if name in names else 'a number'}, got {value!r}")
 
 
 def build(scenario: DynamicsScenario, speed):
