@@ -1,9 +1,12 @@
 """The Fourier technique on the wheel over the discrete track: limits, P2, field behaviour, wear."""
 
 import dataclasses
+import importlib.util
 
 import numpy as np
 import pytest
+
+from helpers import DOCS, doc_blocks, run_doc_block
 
 from railwear.errors import ScenarioError
 from railwear.longterm.fourier import Fourier, contact_filter
@@ -73,7 +76,7 @@ def test_p2_resonance_of_a_heavy_wheel_on_a_beam_on_winkler_foundation():
 
 
 def p2_peak(model):
-    f = np.linspace(20.0, 150.0, 13001)
+    f = np.linspace(20.0, 150.0, 1301)
     return f[np.argmax(np.abs(model.contact_force_transfer(2 * np.pi * f)))]
 
 
@@ -148,3 +151,18 @@ def test_single_positions_and_filter_as_the_disk_wheel():
     h = mid.transfer(n * mid.wheel_speed)
     np.testing.assert_allclose(mid.rates(n), -mid.depth_per_driver * h * contact_filter(n, mid.half_angle) ** 2)
     assert bay_offsets(METRO.track, "sleeper")[0] == ["sleeper"]
+
+def test_doc_worked_example_prints_what_it_says():
+    (code,) = doc_blocks("vehicle_track.md")
+    printed, expected = run_doc_block(code, "vehicle_track.md")
+    assert printed == expected and len(expected) == 3
+
+
+def test_doc_figure_script_runs(tmp_path):
+    spec = importlib.util.spec_from_file_location("vehicle_track_figure", DOCS / "vehicle_track_figure.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    out = tmp_path / "growth.png"
+    fp2, fpp, fastest = module.main(out)
+    assert out.stat().st_size > 10_000
+    assert 50 < fp2 < 70 and abs(fpp - 1067.3) < 1 and fastest[50.0] > fastest[90.0]
