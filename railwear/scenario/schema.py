@@ -348,7 +348,7 @@ class DiskWheel(_Section):
     primary_damping_N_s_m: Damping = 2e4
     sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = None  # up to a loaded wagon
     rail_mass_kg: Mass | None = 150.0
-    pad_stiffness_N_m: Annotated[float, Field(ge=1e3, le=1e11)] = 1e8
+    pad_stiffness_N_m: Annotated[float, Field(ge=1e3, le=1e10)] = 1e8  # 1e11: the Fourier rates overflow
     pad_damping_N_s_m: Damping = 6e4
 
 
