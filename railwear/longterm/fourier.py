@@ -165,11 +165,13 @@ class Fourier:
 @dataclass(frozen=True)
 class FourierStrategy(Strategy, name="fourier"):
     """The Fourier technique behind the strategy interface, in normed life time (one unit is
-    ``life_distance`` metres at the model's speed)."""
+    ``life_distance`` metres at the model's speed); ``body`` names the model the transfer
+    functions come from."""
 
     fourier: Fourier
     life_distance: float
     n_save: int = 101
+    body: str = "disk_wheel"
 
     def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
         """Like :meth:`Phenomenological.run`; the solution is exact, so there is nothing to
@@ -185,7 +187,7 @@ class FourierStrategy(Strategy, name="fourier"):
         ds["stop_time"] = stop_time(ds.time.values)
         ds["cost_transfer_evaluations"] = ((), ds.sizes["order"],
                                            {"units": "1", "long_name": "orders of the transfer function evaluated"})
-        ds.attrs.update(strategy=self.name, body="disk_wheel", scenario_hash="",
+        ds.attrs.update(strategy=self.name, body=self.body, scenario_hash="",
                         strategy_description=ds.attrs["strategy"])
         if progress is not None:
             progress(1.0)

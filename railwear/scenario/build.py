@@ -113,7 +113,8 @@ def one_speed(scenario: Scenario):
     """The operation speed (m/s) of a strategy that takes one."""
     speeds = scenario.operation.speeds
     if isinstance(speeds, list):
-        raise ScenarioError(f"operation: the {scenario.strategy.kind} strategy takes one speed; "
+        field = "speed_kmh" if scenario.operation.speed_kmh is not None else "speed_m_s"
+        raise ScenarioError(f"operation.{field}: the {scenario.strategy.kind} strategy takes one speed; "
                             "sweep over speeds instead")
     return speeds
 
