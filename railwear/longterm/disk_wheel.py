@@ -64,26 +64,33 @@ def advance(model, p, surf, y, t0, t1, energy, integrator, t_eval=None):
     return out if t_eval is not None else (out.y.copy(), int(out.stats.rhs_evaluations))
 
 
+def dense_contact(model, p, surf, y, t0, t1, integrator, n_output):
+    """Run as :func:`advance` with ``n_output`` dense outputs: ``(y_end, rhs_evaluations, t,
+    normal_force, creepage, power, angle)`` at the outputs (the angle unwrapped)."""
+    t = np.linspace(t0, t1, n_output)
+    out = advance(model, p, surf, y, t0, t1, np.zeros(0), integrator, t_eval=t)
+    c = kernels.outputs(model.kind, out.t_out, out.y_out, p, surf, kernels.DW_N_OUTPUTS)
+    return (out.y.copy(), int(out.stats.rhs_evaluations), out.t_out, c[:, 0], c[:, 1], c[:, 3],
+            np.unwrap(c[:, 4]))  # the outputs wrap the angle
+
+
 def swept_volume(model, p, surf, y, t0, t1, law, n_cells, band_width, integrator, n_output):
     """Run as :func:`advance` with ``n_output`` dense outputs and wear by ``law`` (a
     :class:`~railwear.wear.WearLaw`): the volume (m³) per cell, each output interval's
     trapezoidal volume swept over the cells as the patch passes (the compiled energy sweep's
     spread), with the Hertz patch area ``π a b (N/W)^(2/3)``, ``b`` half the band. Returns
     ``(y_end, rhs_evaluations, cell_volumes)``."""
-    t = np.linspace(t0, t1, n_output)
-    out = advance(model, p, surf, y, t0, t1, np.zeros(0), integrator, t_eval=t)
-    c = kernels.outputs(model.kind, out.t_out, out.y_out, p, surf, kernels.DW_N_OUTPUTS)
-    force, creepage, power, angle = c[:, 0], c[:, 1], c[:, 3], np.unwrap(c[:, 4])  # the outputs wrap it
+    y, nfev, t, force, creepage, power, angle = dense_contact(model, p, surf, y, t0, t1, integrator, n_output)
     scale = np.cbrt(np.maximum(force, 0.0) / model.static_load) ** 2
     contact = ContactSample(power, force, np.abs(creepage) * model.speed, np.full(t.size, model.speed),
                             np.pi * model.patch_half_length * band_width / 2 * scale)
     rate = np.asarray(law.volume_rate_of(contact), float)
-    volume = 0.5 * (rate[1:] + rate[:-1]) * np.diff(out.t_out)
+    volume = 0.5 * (rate[1:] + rate[:-1]) * np.diff(t)
     cells = np.zeros(n_cells)
     half = model.patch_half_length / model.radius
     for k in range(volume.size):
         kernels.sweep(cells, angle[k], angle[k + 1], half, volume[k])
-    return out.y.copy(), int(out.stats.rhs_evaluations), cells
+    return y, nfev, cells
 
 
 def wheel_turn(model):
@@ -183,17 +190,13 @@ class DiskWheel(RadiusBody):
             object.__setattr__(self, "service", ServiceSpeeds((self.model.speed,)))
 
     # frozen geometry
-    def draw(self, u, rng):
-        """One Monte Carlo set over the frozen ``u`` (m): ``(rates, speeds, cost)``, ``rates`` the
-        depth per unit normed time of each draw and cell (m), ``(samples, n)``; ``cost`` a dict of
-        revolutions simulated and right-hand-side evaluations."""
-        u = np.asarray(u, float)
-        shape = u - u.mean()
+    def frozen_runs(self, shape, rng, cost):
+        """The Monte Carlo draws over the frozen ``shape`` (m): for each, the model at its drawn
+        speed and phase, its parameters, surface, state after the transient, the transient's end
+        (s) and one turn (s); the transient's right-hand sides are added to ``cost``."""
         speeds = self.service.sample(rng, self.samples)
         phases = rng.uniform(0.0, 2.0 * np.pi, self.samples)
-        rates = np.empty((self.samples, u.size))
-        nfev = 0
-        for i, (v, phase) in enumerate(zip(speeds, phases)):
+        for v, phase in zip(speeds, phases):
             model = replace(self.model, speed=float(v), radius_deviation=shape, initial_angle=float(phase),
                             initial_lift=start_lift(self.model, shape, phase))
             p, surf, y = model.params(), model.surface(), model.initial_state()
@@ -201,17 +204,26 @@ class DiskWheel(RadiusBody):
             t0 = self.transient_revolutions * turn
             if t0 > 0:
                 y, n = advance(model, p, surf, y, 0.0, t0, np.zeros(0), self.integration)
-                nfev += n
+                cost["rhs_evaluations"] += n
+            yield model, p, surf, y, t0, turn
+
+    def draw(self, u, rng):
+        """One Monte Carlo set over the frozen ``u`` (m): ``(rates, cost)``, ``rates`` the depth
+        per unit normed time of each draw and cell (m), ``(samples, n)``; ``cost`` a dict of
+        revolutions simulated and right-hand-side evaluations."""
+        u = np.asarray(u, float)
+        rates = np.empty((self.samples, u.size))
+        cost = {"revolutions": self.samples * (self.revolutions + self.transient_revolutions), "rhs_evaluations": 0}
+        for i, (model, p, surf, y, t0, turn) in enumerate(self.frozen_runs(u - u.mean(), rng, cost)):
             depth, n = self._wear(model, p, surf, y, t0, t0 + self.revolutions * turn, u.size, self.revolutions)
-            nfev += n
+            cost["rhs_evaluations"] += n
             distance = self.revolutions * turn * model.speed
             rates[i] = depth / distance * self.life_distance
-        cost = {"revolutions": self.samples * (self.revolutions + self.transient_revolutions), "rhs_evaluations": nfev}
-        return rates, speeds, cost
+        return rates, cost
 
     def statistics(self, u, rng):
         """Mean wear rate per cell (m per unit normed time), its standard error and the cost."""
-        rates, _, cost = self.draw(u, rng)
+        rates, cost = self.draw(u, rng)
         return rates.mean(0), rates.std(0, ddof=1) / np.sqrt(self.samples), cost
 
     @property

@@ -181,11 +181,15 @@ def disk_wheel_body(scenario: Scenario, speed=None):
     ``[service]`` speeds (``speed`` m/s: the model's speed, default the service mean), with the
     settings of ``[strategy]`` that are the body's."""
     from railwear.longterm.disk_wheel import DiskWheel
+    from railwear.longterm.disk_wheel_state import StatefulDiskWheel
 
-    st, service = scenario.strategy, service_speeds(scenario)
+    st, service, law = scenario.strategy, service_speeds(scenario), wear_law(scenario)
     settings = {k: getattr(st, k) for k in DISK_WHEEL_SETTINGS if k in type(st).model_fields}
-    return DiskWheel(disk_wheel_model(scenario, service.mean if speed is None else speed), wear_law(scenario),
-                     band_width(scenario), life_distance(scenario), service, **settings)
+    model = disk_wheel_model(scenario, service.mean if speed is None else speed)
+    if getattr(law, "stateful", False):
+        return StatefulDiskWheel(model, law, band_width(scenario), life_distance(scenario), service, **settings,
+                                 state_scale=scenario.wear.state_scale_um * UM)
+    return DiskWheel(model, law, band_width(scenario), life_distance(scenario), service, **settings)
 
 
 @builds("stepwise")
@@ -253,6 +257,9 @@ def wheelset_body(scenario: Scenario):
     from railwear.longterm.wheelset_wear import Wheelset
 
     ww = scenario.wheelset_wear
+    if getattr(wear_law(scenario), "stateful", False):
+        raise ScenarioError(f"wear.law: {scenario.wear.law!r} carries a state per cell, which the wheelset "
+                            "body does not; use it with body = \"disk_wheel\"")
     return Wheelset(wheelset_wear(scenario), seconds=ww.seconds_per_sample_s,
                     samples=getattr(scenario.strategy, "samples", 4), update_seconds=ww.update_interval_s)
 

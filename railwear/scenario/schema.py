@@ -131,6 +131,29 @@ class USFDWear(WearSection):
         return USFD(self.convention, self.density_kg_m3)
 
 
+@wear_section
+class HardeningWear(WearSection):
+    """Work hardening on the energy law (paper eq. 2 with an internal state per cell, see
+    :class:`railwear.wear.Hardening`): ``specific_wear_ug_per_J`` at ``density_kg_m3``, the state
+    rising to ``saturation`` under ``power_scale_W_m2`` with ``time_constant_s`` (the wear
+    coefficient falls to β / (1 + z)); ``state_scale_um`` the micrometres one unit of the state
+    counts for in a stepwise step limit. Disk wheel only."""
+
+    law: Literal["hardening"] = "hardening"
+    specific_wear_ug_per_J: Annotated[float, Field(gt=0, le=1e4, allow_inf_nan=False)] = 5.3
+    density_kg_m3: Annotated[float, Field(ge=1000, le=25000, allow_inf_nan=False)] = 7850.0
+    saturation: Annotated[float, Field(ge=0, le=100, allow_inf_nan=False)] = 1.0
+    power_scale_W_m2: Annotated[float, Field(gt=0, le=1e12, allow_inf_nan=False)] = 1e6
+    time_constant_s: Annotated[float, Field(gt=0, le=1e9, allow_inf_nan=False)] = 3600.0
+    state_scale_um: Annotated[float, Field(gt=0, le=1e6, allow_inf_nan=False)] = 10.0
+
+    def build(self):
+        from railwear.wear import Hardening
+
+        return Hardening(self.specific_wear_ug_per_J * UG, self.density_kg_m3, self.saturation,
+                         self.power_scale_W_m2, self.time_constant_s)
+
+
 def _section_of(registry, key, default, what):
     """A before-validator: a TOML table validated by the class registered under its ``key``; a
     field the class does not have is named as not applying to it."""

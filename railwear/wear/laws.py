@@ -158,8 +158,33 @@ class USFD(WearLaw, name="usfd"):
         return rate
 
 
+class StatefulLaw(WearLaw):
+    """A law with an internal state ``z`` per cell of a surface (paper eq. 2): ``rates(t, π, u,
+    z)`` gives ``(u', z')`` for the local frictional power density ``π`` (W/m²); a body must carry
+    ``z`` (:class:`~railwear.longterm.disk_wheel_state.StatefulDiskWheel`)."""
+
+    stateful = True
+
+    def rates(self, t, power_density, u, z):
+        """``(u', z')``: m/s (negative for wear) and the state's rate, per cell."""
+        raise NotImplementedError
+
+    def initial_state(self, n_cells):
+        """``z`` of a new surface."""
+        return np.zeros(n_cells)
+
+    def advance(self, t, dt, power_density, u, z):
+        """One explicit midpoint step of ``(u, z)`` over ``dt`` (s) with ``π`` held."""
+        du, dz = self.rates(t, power_density, u, z)
+        du2, dz2 = self.rates(t + dt / 2, power_density, u + dt / 2 * du, z + dt / 2 * dz)
+        return u + dt * du2, z + dt * dz2
+
+    def volume_rate_of(self, contact):
+        raise ScenarioError(f"law {self.name!r} has an internal state: it wears a body that carries it per cell")
+
+
 @dataclass(frozen=True)
-class InternalStateLaw:
+class InternalStateLaw(StatefulLaw, name="internal_state"):
     """Paper eq. 2: ``u' = U(t, π, u, z)``, ``z' = Z(t, π, u, z)`` on the cells of a surface.
 
     ``U`` and ``Z`` are vectorised callables over arrays of cells; ``π`` is the local frictional
@@ -174,12 +199,6 @@ class InternalStateLaw:
         return (np.asarray(self.U(t, power_density, u, z), float),
                 np.asarray(self.Z(t, power_density, u, z), float))
 
-    def advance(self, t, dt, power_density, u, z):
-        """One explicit midpoint step of ``(u, z)`` over ``dt`` (s) with ``π`` held."""
-        du, dz = self.rates(t, power_density, u, z)
-        du2, dz2 = self.rates(t + dt / 2, power_density, u + dt / 2 * du, z + dt / 2 * dz)
-        return u + dt * du2, z + dt * dz2
-
     @classmethod
     def energy(cls, law: EnergyLaw):
         """The plain energy law in this form: ``u' = -β π``, no state."""
@@ -187,14 +206,30 @@ class InternalStateLaw:
 
     @classmethod
     def hardening(cls, law: EnergyLaw, saturation=1.0, power_scale=1e6, time_constant=3600.0):
-        """Work hardening: the surface state ``z`` rises towards ``saturation`` under the power
-        density ``power_scale`` (W/m²) with ``time_constant`` (s) and relaxes without it; the wear
-        coefficient falls to ``β / (1 + z)``."""
-        def U(t, p, u, z):
-            return -law.beta * np.asarray(p) / (1 + z)
+        """:class:`Hardening` on the energy law ``law``."""
+        return Hardening(law.specific_wear, law.density, saturation, power_scale, time_constant)
 
-        def Z(t, p, u, z):
-            drive = np.asarray(p) / (np.asarray(p) + power_scale)
-            return (saturation * drive - z) / time_constant
 
-        return cls(U=U, Z=Z)
+@dataclass(frozen=True)
+class Hardening(StatefulLaw, name="hardening"):
+    """Work hardening on the energy law (``specific_wear`` kg/J, ``density`` kg/m³): the surface
+    state ``z`` rises towards ``saturation`` as ``z' = (saturation π/(π + power_scale) - z) /
+    time_constant`` (π in W/m², the time constant in s) and relaxes without contact; the wear
+    coefficient falls to ``β / (1 + z)``: ``u' = -β π / (1 + z)``."""
+
+    specific_wear: float = 5.3e-9
+    density: float = STEEL_DENSITY
+    saturation: float = 1.0
+    power_scale: float = 1e6
+    time_constant: float = 3600.0
+
+    def __post_init__(self):
+        for name in ("specific_wear", "density", "power_scale", "time_constant"):
+            _positive(name, getattr(self, name))
+        if not (np.isfinite(self.saturation) and self.saturation >= 0):
+            raise ScenarioError(f"saturation must be finite and >= 0, got {self.saturation}")
+
+    def rates(self, t, power_density, u, z):
+        p = np.asarray(power_density, float)
+        beta = self.specific_wear / self.density
+        return -beta * p / (1 + z), (self.saturation * p / (p + self.power_scale) - z) / self.time_constant
