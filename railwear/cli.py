@@ -31,7 +31,7 @@ def _announce_compiling(ctx: typer.Context):
                 typer.echo("compiling kernels (first run only)...", err=True)
 
         def on_end(self, _):
-            pass
+            """Nothing to say when a compile ends (numba's Listener wants both hooks)."""
 
     event.register("numba:compile", Notice())
     _compile_notice["installed"] = True

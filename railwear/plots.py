@@ -103,9 +103,12 @@ def stability(map_ds):
                          vmin=-limit, vmax=limit)
     if rate.min() < 0 < rate.max() and speed.size > 1:
         ax.contour(speed, map_ds.order.values, rate, levels=[0.0], colors="k", linewidths=1)
-    fig.colorbar(mesh, ax=ax, label="growth rate (per unit normed life)")
-    ax.set(xlabel="speed (km/h)", ylabel="polygon order",
-           title=f"stability map (crest amplitude {map_ds.attrs.get('amplitude', 0) / UM:g} µm)")
+    units = map_ds.growth_rate.attrs.get("units", "1")
+    fig.colorbar(mesh, ax=ax, label=map_ds.growth_rate.attrs.get("long_name", "growth rate")
+                 + ("" if units == "1" else f" ({units})"))
+    source = map_ds.attrs.get("source") or (f"crest amplitude {map_ds.attrs['amplitude'] / UM:g} µm"
+                                            if "amplitude" in map_ds.attrs else "")
+    ax.set(xlabel="speed (km/h)", ylabel="polygon order", title="stability map" + (f": {source}" if source else ""))
     return fig
 
 
@@ -199,24 +202,30 @@ def sweep(ds):
 
 
 def forecast(ds):
-    """Peak-to-peak deviation over distance for every sample, the limit, and the crossing band."""
-    fig, (ax, hist) = _figure(7, 6.5, 2)
+    """Peak-to-peak deviation over distance for every sample, the limit, and the crossing band
+    (with a histogram of the crossings when any sample reaches the limit)."""
+    crossed = ds.crossing_distance.values[np.isfinite(ds.crossing_distance.values)]
+    fig, axes = _figure(7, 6.5 if crossed.size else 4, 2 if crossed.size else 1)
+    ax = axes[0]
     limit = ds.attrs["limit_m"] / UM
     distance = ds.distance.values
-    for p in ds.peak_to_peak.values:
-        ax.plot(distance, p / UM, color="C0", lw=0.6, alpha=0.4)
+    for i, p in enumerate(ds.peak_to_peak.values):
+        ax.plot(distance, p / UM, color="C0", lw=0.6, alpha=0.4, label="samples" if i == 0 else None)
     ax.axhline(limit, color="C3", lw=1.5, label=f"limit {limit:g} µm")
-    for key, style in (("crossing_p05_km", ":"), ("crossing_median_km", "-"), ("crossing_p95_km", ":")):
+    for key, style, name in (("crossing_p05_km", ":", "5 % / 95 % of the crossings"), ("crossing_median_km", "-", "median"),
+                             ("crossing_p95_km", ":", None)):
         if np.isfinite(ds.attrs[key]):
-            ax.axvline(ds.attrs[key], color="k", ls=style, lw=1)
-    ax.set(xlabel="distance (km)", ylabel="peak-to-peak (µm)",
-           title="out-of-roundness per sample, median and 90 % band of the crossing")
+            ax.axvline(ds.attrs[key], color="k", ls=style, lw=1, label=name)
+    title = ("out-of-roundness per sample, median and 90 % band of the crossing" if crossed.size else
+             f"out-of-roundness per sample: none of {ds.sizes['sample']} reaches the limit "
+             f"within {distance[-1]:.0f} km")
+    ax.set(xlabel="distance (km)", ylabel="peak-to-peak (µm)", title=title)
     ax.legend(fontsize="small")
-    crossed = ds.crossing_distance.values[np.isfinite(ds.crossing_distance.values)]
     if crossed.size:
+        hist = axes[1]
         hist.hist(crossed, bins=min(30, max(5, crossed.size // 3)), color="C0")
-    hist.set(xlabel="distance at the limit (km)", ylabel="samples",
-             title=f"{crossed.size} of {ds.sizes['sample']} samples reach the limit")
+        hist.set(xlabel="distance at the limit (km)", ylabel="samples",
+                 title=f"{crossed.size} of {ds.sizes['sample']} samples reach the limit")
     return fig
 
 

@@ -33,6 +33,16 @@ def run_doc_block(code, label):
     return [line.strip() for line in out.getvalue().splitlines()], expected
 
 
+def doc_script(name):
+    """The module of the figure script ``docs/NAME`` (loaded, not run)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(Path(name).stem, DOCS / name)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 class Killed(Exception):
     """Stands for the process being killed."""
 

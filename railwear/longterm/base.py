@@ -256,7 +256,7 @@ class Checkpoint:
             if fields["u"].shape == () or not all(f"previous_{i}" in fields for i in range(int(fields["previous_count"]))):
                 refuse("the wear state or the previous steps are incomplete")
             rng_from_text(fields["rng_state"], source)
-        return cls(kind, key, {k: _plain(v) for k, v in fields.items()}, version)
+        return cls(kind, key, {k: plain_value(v) for k, v in fields.items()}, version)
 
     @property
     def steps(self):
@@ -271,11 +271,10 @@ class Checkpoint:
             raise ScenarioError(f"resume: the checkpoint belongs to another {body} problem or run")
 
 
-def _plain(value):
+def plain_value(value):
+    """A field read from an ``.npz`` file: a Python number or text for a 0-d array, else a copy."""
     value = np.asarray(value)
-    if value.ndim:
-        return value
-    return {"U": str, "i": int, "u": int, "f": float, "b": bool}.get(value.dtype.kind, lambda v: v)(value.item())
+    return value.item() if value.ndim == 0 else value.copy()
 
 
 def fingerprint(*parts):

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from railwear.errors import ScenarioError
-from railwear.longterm.base import (Checkpoint, WearState, checked_run, fingerprint, fraction_done, rng_from_text,
-                                    rng_state_text, stop_fraction)
+from railwear.longterm.base import (Checkpoint, WearState, checked_run, fingerprint, fraction_done, plain_value,
+                                    rng_from_text, rng_state_text, stop_fraction)
 
 LIMIT_SLACK = 1 - 1e-12  # the depth counts as reached within round-off
 
@@ -139,12 +139,12 @@ def _restore(body, resume, kind, key, u_start):
     resume.check(kind, key, body.label)
     f = resume.fields
     try:
-        previous = tuple(_plain(f[f"previous_{i}"]) for i in range(int(f["previous_count"])))
+        previous = tuple(plain_value(f[f"previous_{i}"]) for i in range(int(f["previous_count"])))
         state = WearState(
             float(f["time"]), int(f["steps"]), np.array(f["u"], float), np.array(f["variance"], float),
             float(f["law_volume"]), previous,
-            {k[len("carry_"):]: _plain(v) for k, v in f.items() if k.startswith("carry_")}, int(f["mark"]),
-            {k[len("cost_"):]: _plain(v) for k, v in f.items() if k.startswith("cost_")},
+            {k[len("carry_"):]: plain_value(v) for k, v in f.items() if k.startswith("carry_")}, int(f["mark"]),
+            {k[len("cost_"):]: plain_value(v) for k, v in f.items() if k.startswith("cost_")},
             {k[len("saved_"):]: list(np.asarray(v)) for k, v in f.items() if k.startswith("saved_")},
             rng_from_text(f["rng_state"]))
     except (KeyError, TypeError, ValueError):
@@ -154,7 +154,3 @@ def _restore(body, resume, kind, key, u_start):
     body.update(state.u, None)
     return state
 
-
-def _plain(value):
-    value = np.asarray(value)
-    return value.item() if value.ndim == 0 else value.copy()

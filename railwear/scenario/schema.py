@@ -5,6 +5,7 @@ can be (a 1e-30 m wheel, a 1e300 N/m spring) would otherwise run into a division
 overflow or a run that never ends. Types are strict: ``true`` is not a number, ``2.0`` not a count.
 """
 
+from abc import abstractmethod
 from typing import Annotated, ClassVar, Literal
 
 from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, SerializeAsAny, ValidationError,
@@ -71,9 +72,9 @@ class WearSection(_Section):
     law: str
     band_width_mm: Annotated[float, Field(gt=0, le=1000)] | None = None
 
+    @abstractmethod
     def build(self):
         """The :class:`~railwear.wear.WearLaw` of the section."""
-        raise NotImplementedError
 
 
 WEAR_SECTIONS: dict = {}

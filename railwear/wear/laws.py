@@ -165,9 +165,9 @@ class StatefulLaw(WearLaw):
 
     stateful = True
 
+    @abstractmethod
     def rates(self, t, power_density, u, z):
         """``(u', z')``: m/s (negative for wear) and the state's rate, per cell."""
-        raise NotImplementedError
 
     def initial_state(self, n_cells):
         """``z`` of a new surface."""

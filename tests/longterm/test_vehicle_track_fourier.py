@@ -1,12 +1,11 @@
 """The Fourier technique on the wheel over the discrete track: limits, P2, field behaviour, wear."""
 
 import dataclasses
-import importlib.util
 
 import numpy as np
 import pytest
 
-from helpers import DOCS, doc_blocks, run_doc_block
+from helpers import doc_blocks, doc_script, run_doc_block
 
 from railwear.errors import ScenarioError
 from railwear.longterm.fourier import Fourier, contact_filter
@@ -159,9 +158,7 @@ def test_doc_worked_example_prints_what_it_says():
 
 
 def test_doc_figure_script_runs(tmp_path):
-    spec = importlib.util.spec_from_file_location("vehicle_track_figure", DOCS / "vehicle_track_figure.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = doc_script("vehicle_track_figure.py")
     out = tmp_path / "growth.png"
     fp2, fpp, fastest = module.main(out)
     assert out.stat().st_size > 10_000

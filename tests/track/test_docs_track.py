@@ -1,9 +1,6 @@
 """docs/track.md: the worked example prints what its comments say; the figure script runs."""
 
-import importlib.util
-from pathlib import Path
-
-from helpers import DOCS, doc_blocks, run_doc_block
+from helpers import doc_blocks, doc_script, run_doc_block
 
 
 def test_worked_example_prints_what_it_says():
@@ -13,9 +10,7 @@ def test_worked_example_prints_what_it_says():
 
 
 def test_figure_script_runs(tmp_path):
-    spec = importlib.util.spec_from_file_location("track_figure", DOCS / "track_figure.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = doc_script("track_figure.py")
     out = tmp_path / "receptance.png"
     fpp, fp2, f_track = module.main(out)
     assert out.stat().st_size > 10_000
