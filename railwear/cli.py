@@ -8,7 +8,9 @@ import typer
 
 from railwear.errors import NumericalInstabilityError, RailwearError, ScenarioError
 
+# Help as plain text: rich markup would read A:B:STEP's ':B:' as an emoji and [...] as a style.
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  rich_markup_mode=None, context_settings={"max_content_width": 120},
                   help="railwear: long-term wear of railway wheels and polygonalisation.")
 
 
@@ -16,8 +18,17 @@ _QUIET_COMMANDS = ("plot", "scenarios", "show")  # compile nothing: no numba imp
 _compile_notice = {"installed": False, "printed": False}
 
 
+def _print_version(value: bool):
+    if value:
+        from railwear import __version__
+
+        typer.echo(f"railwear {__version__}")
+        raise typer.Exit()
+
+
 @app.callback()
-def _announce_compiling(ctx: typer.Context):
+def _announce_compiling(ctx: typer.Context, version: Annotated[bool, typer.Option(
+        "--version", is_eager=True, callback=_print_version, help="print railwear's version and exit")] = False):
     """One line on standard error when numba starts compiling, i.e. its cache is cold (the first
     run after an install or a change): up to a minute that would otherwise look like a hang."""
     if ctx.invoked_subcommand in _QUIET_COMMANDS or _compile_notice["installed"]:
@@ -508,7 +519,7 @@ def main():
     """The ``railwear`` command. A bug (an exception railwear did not raise on purpose) is exit
     status 1 with its traceback in ``LOG`` in the output folder and a one-line pointer to it."""
     try:
-        app()
+        app(prog_name="railwear")
     except RailwearError as e:  # anything a command did not map itself
         typer.echo(f"railwear: error: {' '.join(str(e).split())}", err=True)
         sys.exit(2 if isinstance(e, ScenarioError) else 1)

@@ -1,0 +1,5 @@
+"""``python -m railwear``: the ``railwear`` command."""
+
+from railwear.cli import main
+
+main()
