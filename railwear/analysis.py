@@ -27,7 +27,8 @@ def _speeds_m_s(speeds_kmh, field="speeds_kmh"):
 def stability(scenario=None, speeds_kmh=SPEEDS_KMH, orders=ORDERS, amplitude=None):
     """Growth rate over speed × polygon order; the ``speed`` coordinate is in m/s.
 
-    With ``[strategy] kind = "fourier"`` from the disk wheel's transfer functions (per km run),
+    With ``[strategy] kind = "fourier"`` from the transfer functions of its body, the disk wheel
+    or the wheel on the track (per km run),
     else from the evolution equation's dispersion relation (per unit normed time) with the slope
     frozen at the crest of ``amplitude`` (m; default the scenario's initial rms, 0 the round
     wheel; the Fourier technique ignores it). Attributes: ``scenario_name``, ``scenario_hash``
@@ -42,7 +43,10 @@ def stability(scenario=None, speeds_kmh=SPEEDS_KMH, orders=ORDERS, amplitude=Non
     if amplitude is not None and not amplitude >= 0:
         raise ScenarioError(f"amplitude: must be >= 0 (m), got {amplitude!r}")
     sc = load_scenario(scenario)
-    if sc.strategy.kind == "fourier":
+    if sc.strategy.kind == "fourier" and sc.strategy.body == "vehicle_track":
+        ds = build.vehicle_case(sc).growth_map(v, n.astype(int), build.wear_law(sc), sc.track.bay_positions)
+        label = "wheel on the discrete track (Fourier technique)"
+    elif sc.strategy.kind == "fourier":
         from railwear.longterm import fourier
 
         ds = fourier.stability_map(lambda speed: build.disk_wheel_model(sc, speed), v, n.astype(int),

@@ -54,8 +54,8 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
         "Conventions": "CF-1.10",
         "life_distance_km": scenario.operation.life_distance_km,
     })
+    ds["nominal_radius"] = ((), scenario.wheel.radius_m, {"units": "m", "long_name": "nominal rolling radius"})
     return check_result(ds)
-    return ds
 
 
 def simulate(scenario, progress=None):

@@ -165,9 +165,28 @@ def summary(ds: xr.Dataset):
         if life > 0 and entry["leading_order"] > 0:
             rate = float(d.growth_rate.sel(order=entry["leading_order"]))
             entry["leading_growth_per_10000_km"] = float(np.expm1(rate * PER_10000_KM / life))
+        entry.update(_polygon(d, entry, life))
         out.append(entry)
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
             "railwear_version": ds.attrs.get("railwear_version", ""), "runs": out}
+
+
+def _polygon(d, entry, life):
+    """The dominant polygon in the field's terms: wavelength on the tread ``2π R0 / n`` (mm), the
+    frequency it excites ``n V / (2π R0)`` (Hz), its growth per 10 000 km, and where the run met
+    the out-of-roundness limit (km; None if it did not)."""
+    out, n = {}, entry["dominant_order"]
+    if "nominal_radius" in d and n > 0:
+        circumference = 2 * np.pi * float(d.nominal_radius)
+        out.update(wavelength_mm=circumference / n / MM, passing_frequency_hz=n * float(d.speed) / circumference)
+        if life > 0:
+            rate = float(d.growth_rate.sel(order=n))
+            out["dominant_growth_per_10000_km"] = float(np.expm1(rate * PER_10000_KM / life))
+    if "peak_to_peak_limit" in d:
+        limit = float(d.peak_to_peak_limit)
+        out["peak_to_peak_limit_mm"] = limit / MM
+        out["limit_distance_km"] = entry["distance_km"] if float(d.peak_to_peak) >= limit * (1 - 1e-9) else None
+    return out
 
 
 BODY_SUMMARIES = {"wheelset": wheelset_summary}
@@ -195,6 +214,15 @@ def summary_text(s):
             f"out-of-round rms x{r['out_of_round_growth_factor']:.2f} over the run, fastest order present "
             f"at the start {r['leading_order']} (x{r['leading_growth_factor']:.2f}"
             + (f", {r['leading_growth_per_10000_km']:+.0%} per 10 000 km)" if "leading_growth_per_10000_km" in r else ")"))
+        if "wavelength_mm" in r:
+            growth = (f", {r['dominant_growth_per_10000_km']:+.0%} per 10 000 km"
+                      if "dominant_growth_per_10000_km" in r else "")
+            lines.append(f"  order-{r['dominant_order']} polygon: wavelength {r['wavelength_mm']:.0f} mm on the tread, "
+                         f"passing at {r['passing_frequency_hz']:.1f} Hz{growth}")
+        if "peak_to_peak_limit_mm" in r:
+            reached = (f"reached after {r['limit_distance_km']:,.0f} km" if r["limit_distance_km"] is not None
+                       else f"not reached in {r['distance_km']:,.0f} km")
+            lines.append(f"  out-of-roundness limit {r['peak_to_peak_limit_mm']:g} mm peak to peak: {reached}")
     return "\n".join(lines) + "\n"
 
 

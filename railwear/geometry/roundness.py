@@ -32,15 +32,18 @@ def harmonics(n_points, orders, amplitudes, phases=None):
     return np.sum(amplitudes[:, None] * np.cos(orders[:, None] * x + phases[:, None]), axis=0)
 
 
-def random_perturbation(n_points, rms, lowest_order, highest_order, rng):
-    """Equal-amplitude harmonics of the given orders with random phases, scaled to ``rms`` (m)."""
+def random_perturbation(n_points, rms, lowest_order, highest_order, rng, slope=0.0):
+    """Harmonics of the given orders with random phases and amplitudes ``∝ n^-slope`` (``slope``
+    0: equal amplitudes; 1: a level falling 6 dB per doubling of the order, as a re-profiled wheel's
+    spectrum rises with the wavelength), scaled to ``rms`` (m)."""
     if not 1 <= lowest_order <= highest_order < n_points // 2:
         raise ScenarioError(
             f"initial orders must satisfy 1 <= lowest <= highest < {n_points // 2}")
     orders = np.arange(lowest_order, highest_order + 1)
     phases = rng.uniform(0, 2 * np.pi, orders.size)
-    # Equal amplitudes A: the rms of the sum is A sqrt(count / 2).
-    return harmonics(n_points, orders, np.full(orders.size, rms * np.sqrt(2 / orders.size)), phases)
+    shape = orders.astype(float) ** -slope
+    # Amplitudes A_n: the rms of the sum is sqrt(sum A_n² / 2).
+    return harmonics(n_points, orders, rms * shape * np.sqrt(2 / np.sum(shape**2)), phases)
 
 
 def resample_measured(angle, deviation, n_points):
@@ -142,7 +145,8 @@ def growth(times, deviation):
     out-of-round rms per unit time and its standard error), ``rms_factor`` (``exp(rate T)`` over
     the run), ``order_rate`` and ``order_rate_error`` per order ``1..N/2-1`` (``nan`` where an
     amplitude vanishes), ``present`` (orders present at the start), ``leading_order`` (the
-    present order that grows fastest) with its ``leading_factor``."""
+    present order that grows fastest) with its ``leading_factor``, and ``leading_dominant``, whether
+    it is the largest harmonic at the end."""
     d = np.asarray(deviation, float)
     t = np.asarray(times, float)
     span = t[-1] - t[0]
@@ -158,10 +162,13 @@ def growth(times, deviation):
             "rms_factor": float(np.exp(rate[0] * span)), "order_rate": order_rate, "order_rate_error": order_error,
             "present": present, "leading_order": k + 1 if np.isfinite(candidates[k]) else 0,
             "leading_factor": float(np.exp(candidates[k] * span)) if np.isfinite(candidates[k]) else 0.0,
-            "leading_significant": bool(np.isfinite(candidates[k]) and candidates[k] > 2 * order_error[k])}
+            "leading_significant": bool(np.isfinite(candidates[k]) and candidates[k] > 2 * order_error[k]),
+            "leading_dominant": bool(np.argmax(amp[-1]) == k)}
 
 
-REGIME_RULE = ("polygonalising when the out-of-round rms grows 3x over the run, smoothing when it falls "
+REGIME_RULE = ("polygonalising when the out-of-round rms grows 3x over the run, or an order present at the "
+               "start grows 3x (by more than 2 standard errors) to the largest harmonic at the end; smoothing "
+               "when the rms falls "
                "below half, onset when it grows by 10 % or an order present at the start grows 1.5x "
                "(by more than 2 standard errors of its fitted rate), else stable")
 
@@ -170,7 +177,8 @@ def regime(g):
     """The regime from :func:`growth`'s ``g``: :data:`REGIME_RULE`."""
     if not np.isfinite(g["rms_factor"]):
         return "stable"
-    if g["rms_factor"] >= POLYGONAL_GROWTH:
+    if g["rms_factor"] >= POLYGONAL_GROWTH or (g["leading_significant"] and g["leading_dominant"]
+                                                and g["leading_factor"] >= POLYGONAL_GROWTH):
         return "polygonalising"
     if g["rms_factor"] < SMOOTHING_DECAY:
         return "smoothing"

@@ -22,7 +22,7 @@ import xarray as xr
 from railwear.errors import ScenarioError
 from railwear.longterm.base import Strategy, checked_start, stop_time, time_coordinates
 from railwear.longterm.spectra import describe
-from railwear.units import KM
+from railwear.units import KM, MM
 
 
 def contact_filter(orders, half_angle):
@@ -97,25 +97,37 @@ class Fourier:
         evolved[:, 1:] = spectrum[None, 1:] * np.exp(np.outer(t, self.rates(np.arange(1, spectrum.size))))
         return np.fft.irfft(evolved, n, axis=-1)
 
-    def run(self, u0, duration, n_save=101, depth_limit=None):
+    def run(self, u0, duration, n_save=101, depth_limit=None, peak_to_peak_limit=None):
         """``u(x, t)`` (m) from ``u0`` over ``duration`` seconds of running, stopping where the
-        most worn spot has lost ``depth_limit`` (m), found by bisection on the exact solution."""
+        most worn spot has lost ``depth_limit`` (m) or the wheel is ``peak_to_peak_limit`` (m) out
+        of round, found by bisection on the exact solution."""
         if not duration > 0:
             raise ScenarioError("duration must be > 0 (s)")
+        u0 = np.asarray(u0, float)
+        if peak_to_peak_limit is not None and np.ptp(u0) >= peak_to_peak_limit:
+            raise ScenarioError(f"solver.peak_to_peak_limit_mm: the wheel starts {np.ptp(u0) / MM:.4g} mm out of "
+                                f"round, above the limit {peak_to_peak_limit / MM:.4g} mm")
+
+        def reached(u):
+            hit = np.zeros(len(u), bool)
+            if depth_limit is not None:
+                hit |= np.max(u0[None, :] - u, axis=1) >= depth_limit
+            if peak_to_peak_limit is not None:
+                hit |= np.ptp(u, axis=1) >= peak_to_peak_limit
+            return hit
+
         t = np.linspace(0.0, duration, n_save)
         u = self.evolve(u0, t)
         stop = duration
-        if depth_limit is not None:
-            depth = np.max(np.asarray(u0)[None, :] - u, axis=1)
-            past = np.flatnonzero(depth >= depth_limit)
-            if past.size:
-                lo, hi = t[past[0] - 1], t[past[0]]
-                for _ in range(60):
-                    mid = 0.5 * (lo + hi)
-                    lo, hi = (mid, hi) if np.max(u0 - self.evolve(u0, mid)[0]) < depth_limit else (lo, mid)
-                stop = hi
-                t = np.append(t[: past[0]], stop)
-                u = np.vstack([u[: past[0]], self.evolve(u0, stop)])
+        past = np.flatnonzero(reached(u))
+        if past.size:
+            lo, hi = t[past[0] - 1], t[past[0]]
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (lo, mid) if reached(self.evolve(u0, mid))[0] else (mid, hi)
+            stop = hi
+            t = np.append(t[: past[0]], stop)
+            u = np.vstack([u[: past[0]], self.evolve(u0, stop)])
         n = u.shape[1]
         orders = np.arange(1, n // 2 + 1)
         lam = self.rates(orders)
@@ -172,19 +184,24 @@ class FourierStrategy(Strategy, name="fourier"):
     life_distance: float
     n_save: int = 101
     body: str = "disk_wheel"
+    peak_to_peak_limit: float | None = None
 
     def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
-        """Like :meth:`Phenomenological.run`; the solution is exact, so there is nothing to
-        checkpoint or resume and ``checkpoint`` and ``resume`` are not used."""
+        """Like :meth:`Phenomenological.run`, stopping also at ``peak_to_peak_limit`` (m); the
+        solution is exact, so there is nothing to checkpoint or resume and ``checkpoint`` and
+        ``resume`` are not used."""
         speed = self.fourier.speed
         ds = self.fourier.run(checked_start(u0, until, depth_limit), until * self.life_distance / speed,
-                              self.n_save, depth_limit)
+                              self.n_save, depth_limit, self.peak_to_peak_limit)
         seconds = ds.time.values
         ds = ds.drop_vars(["time", "distance"]).assign_coords(
             time_coordinates(seconds * speed / self.life_distance, self.life_distance, speed))
         ds = ds.assign_coords(service_time=("time", seconds, {"units": "s", "long_name": "time in service"}))
         ds = ds.rename({"growth_rate": "harmonic_growth_rate", "drift": "harmonic_drift"})
         ds["stop_time"] = stop_time(ds.time.values)
+        if self.peak_to_peak_limit is not None:
+            ds["peak_to_peak_limit"] = ((), self.peak_to_peak_limit,
+                                        {"units": "m", "long_name": "out-of-roundness limit, peak to peak"})
         ds["cost_transfer_evaluations"] = ((), ds.sizes["order"],
                                            {"units": "1", "long_name": "orders of the transfer function evaluated"})
         ds.attrs.update(strategy=self.name, body=self.body, scenario_hash="",

@@ -8,7 +8,7 @@ from railwear.geometry import roundness
 from railwear.measured import read_measured
 from railwear.pde import Cubic, DiskContact, Table
 from railwear.scenario.schema import Scenario
-from railwear.units import GPA, KM, KN, MM, UG, UM, kmh_to_m_s, m_s_to_kmh
+from railwear.units import GPA, KM, KN, MM, MN, UG, UM, kmh_to_m_s, m_s_to_kmh
 
 def wear_rate(scenario: Scenario):
     """The ``h`` of the scenario, in SI units (rate in m per unit normed time)."""
@@ -51,7 +51,7 @@ def initial_state(scenario: Scenario):
     if init.kind == "random":
         rng = np.random.default_rng(init.seed)
         return roundness.random_perturbation(n, init.rms_um * UM, init.lowest_order,
-                                             init.highest_order, rng)
+                                             init.highest_order, rng, init.amplitude_slope)
     if init.kind == "harmonics":
         phases = None if init.phases_deg is None else np.deg2rad(init.phases_deg)
         return roundness.harmonics(n, init.orders, np.array(init.amplitudes_um) * UM, phases)
@@ -131,14 +131,49 @@ def phenomenological(scenario: Scenario):
                             life_distance=life_distance(scenario))
 
 
+def track(scenario: Scenario):
+    """The :class:`~railwear.track.Track` of ``[track]`` (SI), smeared for ``support = "continuous"``."""
+    from railwear.track import Support, Track, rail
+
+    t = scenario.track
+    pad = {"pad_stiffness": t.pad_stiffness_MN_m * MN, "pad_damping": t.pad_damping_kN_s_m * KN,
+           "pad_loss_factor": t.pad_loss_factor}
+    support = Support(**pad) if t.base == "rigid" else Support(
+        **pad, sleeper_mass=t.sleeper_mass_kg, ballast_stiffness=t.ballast_stiffness_MN_m * MN,
+        ballast_damping=t.ballast_damping_kN_s_m * KN, ballast_loss_factor=t.ballast_loss_factor)
+    discrete = Track(rail(t.rail, loss_factor=t.rail_loss_factor), support, t.sleeper_spacing_m, t.beam)
+    return discrete.smeared() if t.support == "continuous" else discrete
+
+
+def vehicle_case(scenario: Scenario):
+    """The :class:`~railwear.longterm.vehicle_track.VehicleCase` of ``[wheel]``, ``[contact]``,
+    ``[vehicle]`` and ``[track]``, its wear band from :func:`band_width`."""
+    from railwear.longterm.vehicle_track import VehicleCase
+
+    w, c, v = scenario.wheel, scenario.contact, scenario.vehicle
+    return VehicleCase(
+        name=scenario.name, diameter=2 * w.radius_m, static_load=w.static_load_kN * KN,
+        unsprung_mass=w.unsprung_mass_kg, wheel_inertia=v.wheel_inertia_kg_m2, sprung_mass=v.sprung_mass_kg,
+        primary_stiffness=v.primary_stiffness_MN_m * MN, primary_damping=v.primary_damping_kN_s_m * KN,
+        track=track(scenario), traction_coefficient=c.traction_coefficient, band_width=band_width(scenario),
+        rail_head_radius=c.rail_head_radius_m, friction_coefficient=c.friction_coefficient,
+        youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson)
+
+
 @builds("fourier")
 def fourier(scenario: Scenario):
-    """Strategy 2: the Fourier technique on the linearised disk wheel at the one speed."""
+    """Strategy 2: the Fourier technique at the one speed on the linearised disk wheel, or on the
+    wheel of ``[vehicle]`` over ``[track]`` (bay-averaged), stopping at ``solver.peak_to_peak_limit_mm``."""
     from railwear.longterm.fourier import Fourier, FourierStrategy
 
-    model = disk_wheel_model(scenario, one_speed(scenario))
-    return FourierStrategy(Fourier.disk_wheel(model, wear_law(scenario), band_width(scenario)),
-                           life_distance(scenario), scenario.solver.n_save)
+    speed, law, body_name = one_speed(scenario), wear_law(scenario), scenario.strategy.body
+    if body_name == "vehicle_track":
+        technique = vehicle_case(scenario).fourier(speed, law, scenario.track.bay_positions)
+    else:
+        technique = Fourier.disk_wheel(disk_wheel_model(scenario, speed), law, band_width(scenario))
+    limit = scenario.solver.peak_to_peak_limit_mm
+    return FourierStrategy(technique, life_distance(scenario), scenario.solver.n_save, body=body_name,
+                           peak_to_peak_limit=None if limit is None else limit * MM)
 
 
 def wear_law(scenario: Scenario):

@@ -232,6 +232,7 @@ class Solver(_Section):
     nu: Annotated[float, Field(ge=0, le=1e3)] = 1e-3
     t_end: Annotated[float, Field(gt=0, le=1e3)] = 1.0  # normed lives
     depth_limit_mm: Annotated[float, Field(ge=1e-6, le=100)] | None = 1.0  # a wheel has ~40 mm to lose
+    peak_to_peak_limit_mm: Annotated[float, Field(ge=1e-4, le=10)] | None = None  # out of round: 0.1-0.6 mm
     n_save: Annotated[int, Field(ge=2, le=100000)] = 101
     dealias: bool = True
     dt: Annotated[float, Field(gt=0, le=1e3)] | None = None
@@ -258,6 +259,7 @@ class Initial(_Section):
     lowest_order: Count = 2
     highest_order: Count = 16
     seed: Annotated[int, Field(ge=0, lt=2**64)] = 1
+    amplitude_slope: Annotated[float, Field(ge=0, le=4)] = 0.0  # kind "random": amplitude of order n ∝ n^-slope
     orders: Annotated[list[Count], Field(max_length=MAX_LIST)] | None = None
     amplitudes_um: Annotated[list[Annotated[float, Field(ge=-1e4, le=1e4)]], Field(max_length=MAX_LIST)] | None = None
     phases_deg: Annotated[list[Annotated[float, Field(ge=-360, le=360)]], Field(max_length=MAX_LIST)] | None = None
@@ -281,7 +283,7 @@ class StrategySection(_Section):
     its builder with :func:`railwear.scenario.build.builds`."""
 
     kind: str
-    body: Literal["disk_wheel", "wheelset"] = "disk_wheel"
+    body: Literal["disk_wheel", "wheelset", "vehicle_track"] = "disk_wheel"
     bodies: ClassVar[tuple] = ("disk_wheel",)
     disk_wheel_only: ClassVar[tuple] = ()
 
@@ -322,9 +324,11 @@ class PhenomenologicalSection(StrategySection):
 
 @strategy_section
 class FourierSection(StrategySection):
-    """The Fourier technique on the linearised disk wheel of ``[disk_wheel]`` (one speed)."""
+    """The Fourier technique (one speed) on the linearised disk wheel of ``[disk_wheel]``, or on
+    the wheel of ``[vehicle]`` over the rail of ``[track]`` (``body = "vehicle_track"``)."""
 
     kind: Literal["fourier"] = "fourier"
+    bodies: ClassVar[tuple] = ("disk_wheel", "vehicle_track")
 
 
 @strategy_section
@@ -374,6 +378,51 @@ class DiskWheel(_Section):
     rail_mass_kg: Mass | None = 150.0
     pad_stiffness_N_m: Annotated[float, Field(ge=1e3, le=1e10)] = 1e8  # 1e11: the Fourier rates overflow
     pad_damping_N_s_m: Damping = 6e4
+
+
+class Vehicle(_Section):
+    """``[vehicle]``: what sits on one wheel of body ``"vehicle_track"`` (the vertical disk wheel
+    of ``[disk_wheel]`` without its rail: the rail is ``[track]``'s). The unsprung mass, radius and
+    load are ``[wheel]``'s; per wheel: the polar inertia (half the wheelset's), the primary
+    suspension to the bogie frame's share ``sprung_mass_kg`` (none: a rigid frame). Defaults: the
+    metro motor car of docs/vehicle_track.md (Math. Probl. Eng. 2020, 1584624, Table 6)."""
+
+    wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = 60.0
+    sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = 855.0
+    primary_stiffness_MN_m: Annotated[float, Field(ge=0, le=1e3)] = 1.7
+    primary_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 10.0
+
+
+class TrackSection(_Section):
+    """``[track]``: one rail (``rail`` a shipped section, ``beam`` its theory, ``rail_loss_factor``)
+    on pads, sleepers and ballast per rail seat at ``sleeper_spacing_m`` (``support = "continuous"``
+    spreads them evenly over the spacing), for body ``"vehicle_track"``; ``base = "rigid"`` puts the
+    pads on a rigid base (slab track; sleeper and ballast fields then refused). Springs carry a viscous coefficient and a loss factor
+    together. ``bay_positions``: the wheel's offsets past a sleeper the Fourier technique averages
+    over. Defaults: ballasted track of Zhai, Wang & Lin, JSV 270 (2004) 673, with a 60E1 rail."""
+
+    rail: Literal["60E1", "54E1", "UIC60", "UIC54"] = "60E1"
+    beam: Literal["euler", "timoshenko"] = "timoshenko"
+    rail_loss_factor: Annotated[float, Field(ge=0, le=1)] = 0.02
+    support: Literal["discrete", "continuous"] = "discrete"
+    sleeper_spacing_m: Annotated[float, Field(ge=0.3, le=1.5)] = 0.6
+    pad_stiffness_MN_m: Annotated[float, Field(ge=1, le=1e4)] = 65.0  # soft resilient pads to stiff EVA
+    pad_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 75.0
+    pad_loss_factor: Annotated[float, Field(ge=0, le=2)] = 0.0
+    sleeper_mass_kg: Annotated[float, Field(ge=0, le=2000)] = 125.5  # half a sleeper
+    base: Literal["ballast", "rigid"] = "ballast"
+    ballast_stiffness_MN_m: Annotated[float, Field(ge=1, le=1e5)] = 137.75
+    ballast_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 58.8
+    ballast_loss_factor: Annotated[float, Field(ge=0, le=2)] = 0.0
+    bay_positions: Annotated[int, Field(ge=1, le=256)] = 8
+
+    @model_validator(mode="after")
+    def _base(self):
+        given = sorted(self.model_fields_set & {"sleeper_mass_kg", "ballast_stiffness_MN_m", "ballast_damping_kN_s_m",
+                                                "ballast_loss_factor"})
+        if self.base == "rigid" and given:
+            raise ValueError(f"{given[0]}: does not apply to base 'rigid'")
+        return self
 
 
 class Wheelset(_Section):
@@ -493,6 +542,8 @@ class Scenario(_Section):
     disk_wheel: DiskWheel = DiskWheel()
     wheelset: Wheelset = Wheelset()
     wheelset_wear: WheelsetWear = WheelsetWear()
+    vehicle: Vehicle = Vehicle()
+    track: TrackSection = TrackSection()
 
     _wear = field_validator("wear", mode="before")(_section_of(WEAR_SECTIONS, "law", "energy", "wear law"))
     _strategy = field_validator("strategy", mode="before")(
@@ -511,8 +562,11 @@ class Scenario(_Section):
         kind, body = self.strategy.kind, self.strategy.body
         return (("solver", ("epsilon", "nu", "dealias", "dt"), kind == "phenomenological", "the phenomenological strategy"),
                 ("wear_rate", None, kind == "phenomenological", "the phenomenological strategy"),
+                ("solver", ("peak_to_peak_limit_mm",), kind == "fourier", "the fourier strategy"),
                 ("disk_wheel", None, body == "disk_wheel", "body 'disk_wheel'"),
-                ("wheelset_wear", None, body == "wheelset", "body 'wheelset'"))
+                ("wheelset_wear", None, body == "wheelset", "body 'wheelset'"),
+                ("vehicle", None, body == "vehicle_track", "body 'vehicle_track'"),
+                ("track", None, body == "vehicle_track", "body 'vehicle_track'"))
 
     def applicable(self, **dump):
         """The scenario as plain data (``model_dump`` options ``dump``; default JSON types without

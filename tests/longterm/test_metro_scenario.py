@@ -1,0 +1,126 @@
+"""The main job: the built-in metro scenario on the wheel over the discrete track (issue 11, part 4)."""
+
+import math
+import tomllib
+
+import numpy as np
+import pytest
+import tomli_w
+
+import railwear
+from railwear.errors import ScenarioError
+from railwear.geometry import roundness
+from railwear.longterm.fourier import Fourier
+from railwear.longterm.vehicle_track import METRO
+from railwear.results import summary
+from railwear.scenario import build, load_scenario, parse_scenario
+from railwear.units import kmh_to_m_s
+from railwear.wear import EnergyLaw
+
+
+@pytest.fixture(scope="module")
+def metro():
+    return railwear.run("metro")
+
+
+def test_scenario_builds_the_documented_metro_case():
+    """The scenario's [wheel], [contact], [vehicle] and [track] are METRO's numbers: the same
+    Fourier rates at 70 km/h to 1e-12 (orders 1-40)."""
+    sc = load_scenario("metro")
+    orders = np.arange(1, 41)
+    ours = build.strategy(sc).fourier.rates(orders)
+    theirs = METRO.fourier(kmh_to_m_s(70.0), EnergyLaw()).rates(orders)
+    np.testing.assert_allclose(ours, theirs, rtol=1e-12)
+
+
+def test_default_run_is_the_polygon_the_stability_map_selects(metro):
+    """The run ends as the order the growth map makes fastest at its speed, names it with its
+    wavelength 2πR0/n and frequency nV/(2πR0), and stops at the peak-to-peak limit (0.1 mm to
+    1e-9)."""
+    s = summary(metro)["runs"][0]
+    growth = railwear.stability("metro", speeds_kmh=[60.0, 70.0, 80.0], orders=range(1, 41))
+    fastest = int(growth.order[int(np.argmax(growth.growth_rate.sel(speed=kmh_to_m_s(70.0)).values))])
+    assert s["dominant_order"] == fastest == 8 and s["maxima"] == 8
+    assert s["regime"] == "polygonalising"
+    assert s["wavelength_mm"] == pytest.approx(2 * math.pi * 420 / 8, rel=1e-12)
+    assert s["passing_frequency_hz"] == pytest.approx(8 * kmh_to_m_s(70.0) / (2 * math.pi * 0.42), rel=1e-12)
+    assert s["peak_to_peak_um"] == pytest.approx(100.0, rel=1e-9)
+    assert s["limit_distance_km"] == s["distance_km"]
+    assert "order-8 polygon: wavelength 330 mm" in railwear.results.summary_text(summary(metro))
+
+
+def test_peak_to_peak_limit_is_met_exactly_and_refused_when_already_passed():
+    """A harmonic grows as e^{λt} from 10 µm: the limit 50 µm peak to peak is met at
+    t = ln(2.5)/Re λ (1e-9); a wheel already past the limit is refused naming the field."""
+    rate = 1e-3
+
+    def transfer(w):
+        return np.full_like(w, -1.0 / 2e-9, dtype=complex)
+
+    f = Fourier(transfer, 0.0, rate * 2e-9, 1.0, 0.0, 1.0)
+    u0 = roundness.harmonics(64, [3], np.array([10e-6]))
+    ds = f.run(u0, 5000.0, 11, peak_to_peak_limit=50e-6)
+    assert float(ds.time[-1]) == pytest.approx(math.log(2.5) / rate, rel=1e-9)
+    with pytest.raises(ScenarioError, match="peak_to_peak_limit_mm"):
+        f.run(u0, 5000.0, 11, peak_to_peak_limit=10e-6)
+
+
+def _metro(edit):
+    data = tomllib.loads(railwear.scenario.builtin_text("metro"))
+    edit(data)
+    return parse_scenario(tomli_w.dumps(data))
+
+
+def test_track_and_vehicle_sections_apply_to_their_body_only():
+    def disk(data):
+        data["strategy"]["body"] = "disk_wheel"
+        del data["vehicle"]
+
+    def phenomenological(data):
+        data["strategy"] = {"kind": "phenomenological"}
+        del data["vehicle"], data["track"]
+
+    with pytest.raises(ScenarioError, match=r"track\.\w+: applies to body 'vehicle_track' only"):
+        _metro(disk)
+    with pytest.raises(ScenarioError, match="peak_to_peak_limit_mm: applies to the fourier strategy only"):
+        _metro(phenomenological)
+    with pytest.raises(ScenarioError, match="ballast_damping_kN_s_m: does not apply to base 'rigid'"):
+        _metro(lambda d: d["track"].update(base="rigid"))
+    with pytest.raises(ScenarioError, match="track.pad_stiffness_MN_m"):
+        _metro(lambda d: d["track"].update(pad_stiffness_MN_m=0.0))
+
+
+def test_track_section_in_si_and_continuous_is_the_smeared_discrete_track():
+    sc = load_scenario("metro")
+    t = build.track(sc)
+    assert t.support.pad_stiffness == 65e6 and t.support.ballast_damping == 58.8e3 and t.sleeper_spacing == 0.6
+    assert t == METRO.track
+    smeared = build.track(_metro(lambda d: d["track"].update(support="continuous")))
+    assert smeared == METRO.track.smeared()
+    def slab(data):
+        data["track"] = {k: v for k, v in data["track"].items() if "ballast" not in k and "sleeper_mass" not in k}
+        data["track"]["base"] = "rigid"
+
+    rigid = build.track(_metro(slab))
+    assert rigid.support.rigid_base
+
+
+def test_sloped_random_start_has_amplitudes_falling_as_the_order_power():
+    """``amplitude_slope`` s: amplitudes ∝ n^-s over the orders, rms as asked (1e-12)."""
+    u = roundness.random_perturbation(512, 10e-6, 1, 40, np.random.default_rng(1), slope=1.0)
+    a = roundness.harmonic_amplitudes(u)[1:41]
+    np.testing.assert_allclose(a * np.arange(1, 41), a[0], rtol=1e-9)
+    assert np.sqrt(np.mean((u - u.mean()) ** 2)) == pytest.approx(10e-6, rel=1e-12)
+    assert build.initial_state(load_scenario("metro")).std() == pytest.approx(10e-6, rel=1e-12)
+
+
+def test_leading_order_grown_to_the_largest_is_polygonalising_below_3x_rms():
+    """The new branch of the rule: order 8 grows 20x from 2 µm past a 15 µm eccentricity that keeps
+    the rms below 3x: polygonalising; grown 5x, still below it: onset."""
+    t = np.linspace(0.0, 1.0, 21)
+    x = roundness.grid_angles(256)
+    for factor, expected in ((20.0, "polygonalising"), (5.0, "onset")):
+        u = 15e-6 * np.cos(x)[None, :] + 2e-6 * np.exp(np.log(factor) * t)[:, None] * np.cos(8 * x)[None, :]
+        g = roundness.growth(t, u)
+        assert g["leading_order"] == 8 and g["leading_factor"] == pytest.approx(factor, rel=1e-9)
+        assert g["rms_factor"] < 3 and roundness.regime(g) == expected
