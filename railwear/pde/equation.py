@@ -190,6 +190,14 @@ class EvolutionEquation:
             out[b] = np.max(np.concatenate([self._slope(b, s[b], u[b], ux[b]), self._slope(b, grid)]))
         return out
 
+    def ill_posed(self, v):
+        """Whether ``h`` decreases with ``u_xx`` at ``v`` and neither ``epsilon`` nor ``nu`` regularises it."""
+        return self.epsilon == 0 and self.nu == 0 and bool(np.any(self.growth_bound(v) > 0))
+
+    def fingerprint_bytes(self):
+        """What a subclass adds to the problem's fingerprint (nothing here)."""
+        return b""
+
     def growth_bound(self, v):
         """Largest linear growth rate per row over the kept orders, slopes frozen at the present curvatures."""
         s, u, ux = self.fields(v)

@@ -124,6 +124,7 @@ class ETDRK4Solver:
         digest = hashlib.sha256()
         digest.update(np.ascontiguousarray(eq.u0).tobytes())
         digest.update(np.ascontiguousarray(eq.speeds).tobytes())
+        digest.update(eq.fingerprint_bytes())
         name = getattr(getattr(eq.h, "func", None), "__qualname__", None) or repr(eq.h)
         digest.update(repr((name,) + parameters).encode())
         return digest.hexdigest()
@@ -166,7 +167,7 @@ class _Loop:
         self.fingerprint = solver.fingerprint(eq, t_end)
         self.u_start = eq.u0
         v = np.fft.rfft(eq.u0, axis=-1)
-        if eq.epsilon == 0 and eq.nu == 0 and np.any(eq.growth_bound(v) > 0):
+        if eq.ill_posed(v):
             raise IllPosedError(
                 "h decreases with u_xx at the start and neither epsilon nor nu regularises it: "
                 "the equation is ill-posed", last_good=eq.u0, last_time=0.0)
