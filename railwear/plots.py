@@ -66,30 +66,171 @@ def evolution(ds):
     return fig
 
 
-LEVEL_FLOOR = -40.0  # dB re 1 µm (0.01 µm rms): levels below are drawn on it, not at -300 dB
+SPECTRUM_RANGE = 100.0  # amplitudes below the largest / 100 (40 dB under the peak) sit on the floor
 
 
-def spectrum(ds):
-    """Roughness level per polygon order at the start (dashed) and the end, levels below
-    :data:`LEVEL_FLOOR` drawn on the floor line with open markers."""
-    fig, (ax,) = _figure(7, 4)
-    orders = ds.order.values
-    top = min(40, orders.size)
-    for i, (label, d) in enumerate(_rows(ds)):
+def _wheel_diameter(ds, diameter=None):
+    """``(D in m, where it came from)``: the argument, the result's ``nominal_radius``, or the
+    ``[wheel] radius_m`` of the scenario stored with the result; ``(None, reason)`` if none."""
+    if diameter is not None:
+        return float(diameter), "given"
+    for name in ("nominal_radius", "wheel_radius"):
+        if name in ds.variables:
+            return 2 * float(ds[name]), "from the result"
+        if name in ds.attrs:
+            return 2 * float(ds.attrs[name]), "from the result"
+    try:
+        import tomllib
+
+        return 2 * float(tomllib.loads(ds.attrs["scenario"])["wheel"]["radius_m"]), "from the scenario"
+    except (KeyError, TypeError, ValueError, tomllib.TOMLDecodeError):
+        return None, "wheel diameter unknown: pass diameter= for wavelengths"
+
+
+def _limit(limit):
+    from railwear.geometry import bands
+
+    return bands.iso3095_limit() if isinstance(limit, str) and limit.lower() == "iso3095" else limit
+
+
+def spectrum(ds, diameter=None, limit=None):
+    """Amplitude per polygon order at the start (dashed) and the end (solid), with the wavelength
+    ``π D / n`` on the top axis, over the one-third-octave band levels in wavelength (EN 15610,
+    dB re 1 µm; bands longer than a quarter of the circumference drawn open: not resolved).
+
+    ``diameter`` (m) defaults to the result's wheel; ``limit`` a ``bands.LimitSpectrum`` or
+    ``"iso3095"`` (the rail roughness limit of ISO 3095) drawn over the bands. Amplitudes more
+    than 40 dB under the largest are drawn on that floor with open markers."""
+    from railwear.geometry import bands
+
+    d_wheel, origin = _wheel_diameter(ds, diameter)
+    limit = _limit(limit)
+    fig, (ax, band_ax) = _figure(7.5, 8, rows=2)
+    rows = _rows(ds)
+    amp = {(i, k): bands.order_amplitudes(d.u.isel(time=k).values) for i, (_, d) in enumerate(rows) for k in (0, -1)}
+    orders = amp[(0, 0)][0]
+    amp = {key: a / UM for key, (_, a) in amp.items()}
+    peak = max(float(np.max(a)) for a in amp.values())
+    floor = peak / SPECTRUM_RANGE if peak > 0 else 1e-3
+    above = np.nonzero(np.any([a > floor for a in amp.values()], axis=0))[0]
+    top = int(np.clip((above[-1] + 3) if above.size else 20, 20, orders.size))
+    n = orders[:top]
+    levels = {}
+    for i, (label, d) in enumerate(rows):
         colour = f"C{i % 10}"
-        with np.errstate(divide="ignore"):
-            start = 20 * np.log10(d.amplitude_initial.values[:top] / np.sqrt(2) / UM)
-        for level, style, name in ((start, "--", f"{label}, start"), (d.roughness_level.values[:top], "-", f"{label}, end")):
-            shown = np.maximum(level, LEVEL_FLOOR)
-            ax.plot(orders[:top], shown, color=colour, ls=style, marker="." if style == "--" else "o", label=name)
-            below = level < LEVEL_FLOOR
-            ax.plot(orders[:top][below], shown[below], ls="none", marker="o", mfc="white", color=colour)
-    ax.axhline(LEVEL_FLOOR, color="0.6", lw=0.8, ls=":")
-    ax.annotate(f"below {LEVEL_FLOOR:g} dB (open markers)", (orders[top - 1], LEVEL_FLOOR), xytext=(0, 4),
-                textcoords="offset points", ha="right", va="bottom", fontsize="small", color="0.4")
-    ax.set(xlabel="polygon order", ylabel="roughness level (dB re 1 µm)",
-           title=_title(ds, "spectrum at the start and the end"))
-    ax.legend(fontsize="small")
+        for k, style, marker, when in ((0, "--", ".", "start"), (-1, "-", "o", "end")):
+            a = amp[(i, k)][:top]
+            shown = np.maximum(a, floor)
+            ax.plot(n, shown, color=colour, ls=style, marker=marker, ms=4, label=f"{label}, {when}")
+            below = a < floor
+            ax.plot(n[below], shown[below], ls="none", marker="o", ms=4, mfc="white", color=colour)
+            if d_wheel is not None:
+                levels[(i, k)] = bands.band_levels(d.u.isel(time=k).values, d_wheel)
+    ax.set_yscale("log")
+    ax.set_ylim(floor / 1.6, peak * 2.5)
+    ax.axhline(floor, color="0.6", lw=0.8, ls=":")
+    ax.plot([], [], ls="none", marker="o", mfc="white", color="0.4", label="under peak - 40 dB (on the floor)")
+    ax.xaxis.get_major_locator().set_params(integer=True)
+    ax.set(xlabel="polygon order n", ylabel="amplitude per order (µm)", xlim=(0.5, top + 0.5),
+           title=_title(ds, "polygon spectrum at the start and the end"))
+    ax.legend(fontsize="small", ncol=2 if len(rows) > 2 else 1)
+    if d_wheel is None:
+        band_ax.text(0.5, 0.5, f"no band levels: {origin}", ha="center", va="center", transform=band_ax.transAxes)
+        band_ax.set_axis_off()
+        return fig
+    circumference = np.pi * d_wheel
+
+    def to_wl(x):  # order <-> wavelength, its own inverse
+        x = np.asarray(x, float)
+        return circumference / np.where(x > 0, x, np.nan)
+
+    wl_ax = ax.secondary_xaxis("top", functions=(to_wl, to_wl))
+    picks = []  # R10 wavelengths at least a twelfth of the axis apart in order
+    for t in bands.nominal_wavelength(np.arange(-6, 30)):
+        at = circumference / t
+        if 1 <= at <= top + 0.5 and all(abs(at - circumference / p) >= top / 12 for p in picks):
+            picks.append(t)
+    wl_ax.set_xticks(picks, [f"{t:g}" for t in picks])
+    wl_ax.set_xlabel(f"wavelength π D / n (m), wheel diameter D = {d_wheel:g} m ({origin})", fontsize="small")
+    band_peak = max(float(np.max(lv.level)) for lv in levels.values())
+    band_floor = band_peak - 10 * np.log10(SPECTRUM_RANGE**2)
+    for i, (label, _) in enumerate(rows):
+        for k, style, marker, when in ((0, "--", ".", "start"), (-1, "-", "o", "end")):
+            lv = levels[(i, k)]
+            shown = np.where(lv.level >= band_floor, lv.level, np.nan)
+            colour = f"C{i % 10}"
+            band_ax.plot(lv.wavelength, shown, color=colour, ls=style, lw=1.0, label=f"{label}, {when}")
+            band_ax.plot(lv.wavelength[lv.resolved], shown[lv.resolved], ls="none", marker=marker, ms=4, color=colour)
+            band_ax.plot(lv.wavelength[~lv.resolved], shown[~lv.resolved], ls="none", marker="o", ms=4, mfc="white",
+                         color=colour)
+    if limit is not None:
+        over = [int(bands.exceedance(levels[(i, -1)], limit).count) for i in range(len(rows))]
+        said = (f"{over[0]} band{'s' if over[0] != 1 else ''} above at the end" if len(rows) == 1 else
+                "bands above at the end:\n" + ", ".join(f"{c} at {label}" for c, (label, _) in zip(over, rows)))
+        band_ax.plot(limit.wavelength, limit.level, color="k", lw=1.5, marker="s", ms=3,
+                     label=f"{limit.name}: {said}" if len(rows) == 1 else f"{limit.name},\n{said}")
+        band_floor = min(band_floor, float(np.min(limit.level)))
+    band_ax.plot([], [], ls="none", marker="o", mfc="white", color="0.4",
+                 label=f"band longer than L/4 = {circumference / 4:.2f} m (not resolved)")
+    band_ax.set_ylim(bottom=band_floor - 3)
+    span = np.concatenate([lv.wavelength for lv in levels.values()])
+    band_ticks = bands.nominal_wavelength(np.arange(-9, 40, 3))
+    band_ticks = band_ticks[(band_ticks <= span.max() * 1.05) & (band_ticks >= span.min() / 1.05)]
+    band_ax.set_xscale("log")
+    band_ax.invert_xaxis()
+    band_ax.set_xticks(band_ticks, [f"{t:g}" for t in band_ticks])
+    band_ax.set(xlabel="wavelength, one-third-octave band centre (m)", ylabel="band level (dB re 1 µm)",
+                title="one-third-octave band levels in wavelength (EN 15610), 40 dB under the peak")
+    band_ax.grid(True, which="major", color="0.9", lw=0.6)
+    band_ax.legend(fontsize="small", ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.16))
+    return fig
+
+
+def polar(ds, diameter=None):
+    """The wheel round its circumference at the start (dashed) and the end (solid): the shape
+    ``u - mean(u)`` (µm on the radial axis) about a circle that stands for the nominal radius,
+    the deviation exaggerated by the factor stated in the figure."""
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
+
+    d_wheel, origin = _wheel_diameter(ds, diameter)
+    every = _rows(ds)
+    rows = every[:6]
+    cols = min(len(rows), 3)
+    fig = Figure(figsize=(4.2 * cols, 4.6 * ((len(rows) + cols - 1) // cols) + 0.4), layout="constrained")
+    axes = fig.subplots((len(rows) + cols - 1) // cols, cols, squeeze=False, subplot_kw={"projection": "polar"})
+    theta = np.append(ds.angle.values, ds.angle.values[0] + 2 * np.pi)
+    notes = []
+    for ax, (i, (label, d)) in zip(axes.flat, enumerate(rows)):
+        shapes = [d.u.isel(time=k).values for k in (0, -1)]
+        shapes = [np.append(u - u.mean(), u[0] - u.mean()) / UM for u in shapes]
+        span = max(float(np.max(np.abs(s))) for s in shapes) or 1.0
+        hub = 2.5 * span  # the circle u = 0 is drawn at this radius, in µm of deviation
+        ax.set_rorigin(-hub)
+        ax.set_ylim(-1.15 * span, 1.15 * span)
+        for s, style, width, when in ((shapes[0], "--", 1.0, "start"), (shapes[1], "-", 1.6, "end")):
+            ax.plot(theta, s, color=f"C{i % 10}", ls=style, lw=width, label=when)
+        ax.plot(theta, np.zeros_like(theta), color="0.5", lw=0.8, ls=":", label="mean radius")
+        ax.set_rlabel_position(100)
+        ax.yaxis.set_major_locator(MaxNLocator(5))
+        ax.yaxis.set_major_formatter(lambda v, _: f"{v:g} µm")
+        ax.tick_params(axis="y", labelsize="x-small")
+        ax.tick_params(axis="x", labelsize="small")
+        drop = float(d.u.isel(time=-1).mean() - d.u.isel(time=0).mean()) / UM
+        ax.set_title(f"{label}: mean radius {drop:+.0f} µm over the run (not drawn)", fontsize="small", pad=14)
+        if d_wheel is not None:
+            factor = d_wheel / 2 / (hub * UM)
+            notes.append(factor)
+        if i == 0:  # in the hub, which the plot leaves empty
+            ax.legend(loc="center", fontsize="x-small", frameon=False, handlelength=1.6)
+    for ax in list(axes.flat)[len(rows):]:
+        ax.set_axis_off()
+    scale = (f"radial axis u - mean(u) (µm), exaggerated about {min(notes):,.0f}x"
+             + (f" to {max(notes):,.0f}x" if max(notes) > 1.01 * min(notes) else "")
+             + f"\nagainst the radius R0 = {d_wheel / 2 * 1e3:g} mm ({origin})") if notes else \
+        f"radial axis u - mean(u) (µm), not to scale:\n{origin}"
+    shown = "" if len(every) == len(rows) else f" (the first {len(rows)} of {len(every)} rows)"
+    fig.suptitle(_title(ds, "the wheel at the start and the end" + shown) + "\n" + scale, fontsize="medium")
     return fig
 
 
@@ -145,7 +286,7 @@ def angular_pattern(ds):
     return fig
 
 
-FIGURES = {"profiles": profiles, "evolution": evolution, "spectrum": spectrum}
+FIGURES = {"profiles": profiles, "evolution": evolution, "spectrum": spectrum, "polar": polar}
 BODY_FIGURES = {"wheelset": {"worn-profile": worn_profile, "angular-pattern": angular_pattern}}
 
 
@@ -328,4 +469,33 @@ def wear_surface(surface, title="wear surface"):
                          edgecolors="w", linewidth=0.1 if surface.n_angle <= 180 else 0)
     fig.colorbar(mesh, ax=ax, label="removed depth (µm)")
     ax.set(xlabel="angle round the wheel (deg)", ylabel="lateral position (mm)", title=title)
+    return fig
+
+
+def track_receptance(ds):
+    """The rail receptance over frequency (magnitude and phase) with the wheel's normal-force
+    transfer, the P2 and pinned-pinned frequencies marked (:func:`railwear.analysis.track_receptance`)."""
+    fig, (top, middle, bottom) = _figure(7.5, 8.0, rows=3)
+    f = ds.frequency.values
+    for style, position in zip(("-", "--", ":"), ds.position.values):
+        label = {"sleeper": "above a sleeper"}.get(str(position), str(position))
+        top.loglog(f, ds.receptance_magnitude.sel(position=position), style, label=label)
+        middle.semilogx(f, ds.receptance_phase.sel(position=position), style, label=label)
+    bottom.loglog(f, ds.contact_force_transfer, "k-", label="wheel on the track, bay averaged")
+    marks = [("p2_frequency", "P2", "tab:red")] + [("pinned_pinned_frequency", "pinned-pinned", "0.3")] * (
+        "pinned_pinned_frequency" in ds)
+    for name, label, colour in marks:
+        value = float(ds[name])
+        for ax in (top, middle, bottom):
+            ax.axvline(value, color=colour, lw=0.8, label=f"{label} {value:.0f} Hz" if ax is top else None)
+    top.set_ylabel("receptance (m/N)")
+    middle.set_ylabel("phase (deg)")
+    middle.set_ylim(-180, 0)
+    bottom.set_ylabel("|N / u| (N/m)")
+    bottom.set_xlabel("frequency (Hz)")
+    top.legend(fontsize=8, loc="lower left")
+    bottom.legend(fontsize=8, loc="lower right")
+    top.set_title(_title(ds, f"rail receptance, {ds.attrs.get('track', '')}"), fontsize=10)
+    for ax in (top, middle, bottom):
+        ax.grid(True, which="both", alpha=0.3)
     return fig
