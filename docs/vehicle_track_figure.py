@@ -16,23 +16,16 @@ matplotlib.use("agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from railwear.longterm.vehicle_track import METRO, VehicleTrackModel  # noqa: E402
+from railwear.longterm.vehicle_track import METRO, VehicleTrackModel, p2_frequency  # noqa: E402
 from railwear.units import kmh_to_m_s  # noqa: E402
 from railwear.wear import EnergyLaw  # noqa: E402
-
-
-def p2_frequency(case):
-    """Peak [Hz] of the bay-averaged normal-force transfer of ``case``, 20-150 Hz."""
-    f = np.linspace(20.0, 150.0, 2601)
-    model = VehicleTrackModel(case.wheel(20.0), case.track)
-    return f[np.argmax(np.abs(model.contact_force_transfer(2 * np.pi * f)))]
 
 
 def main(output):
     kmh = np.linspace(40.0, 100.0, 61)
     orders = np.arange(1, 41)
     rate = METRO.growth_map(kmh_to_m_s(kmh), orders, EnergyLaw()).growth_rate.values * 1e4  # per 10 000 km
-    fp2, fpp = p2_frequency(METRO), METRO.track.pinned_pinned_frequency()
+    fp2, fpp = p2_frequency(VehicleTrackModel(METRO.wheel(20.0), METRO.track)), METRO.track.pinned_pinned_frequency()
     fig, ax = plt.subplots(figsize=(7.5, 5.0))
     limit = np.max(np.abs(rate))
     mesh = ax.pcolormesh(kmh, orders, rate.T, cmap="RdBu_r", vmin=-limit, vmax=limit, shading="nearest")

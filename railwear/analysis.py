@@ -124,3 +124,49 @@ def figure(name, scenario=None):
     title = (f"{sc.name}: depth after 12 turns, wear accelerated 1e6 times "
              f"({m_s_to_kmh(speed):g} km/h, Hertz footprint)")
     return PaperFigure(surface, plots.wear_surface(surface, title))
+
+
+TRACK_FREQUENCIES_HZ = (10.0, 3000.0, 600)  # the receptance's default log-spaced band (low, high, points)
+
+
+def track_receptance(scenario=None, frequencies_hz=None):
+    """The vertical rail receptance of a ``body = "vehicle_track"`` scenario's ``[track]`` over
+    ``frequencies_hz`` (default 10-3000 Hz, log-spaced): magnitude (m N-1) and phase (deg) at
+    midspan and above a sleeper, the bay-averaged normal-force transfer ``|N/ū|`` (N m-1) of the
+    ``[vehicle]`` wheel on it at the operation speed, and the pinned-pinned (discrete track) and
+    P2 frequencies (Hz)."""
+    import xarray as xr
+
+    from railwear.longterm.vehicle_track import VehicleTrackModel, p2_frequency
+    from railwear.scenario import build, load_scenario, scenario_hash
+    from railwear.track import receptance
+
+    sc = load_scenario(scenario)
+    if sc.strategy.body != "vehicle_track":
+        raise ScenarioError(f"strategy.body: the track receptance needs body 'vehicle_track', not {sc.strategy.body!r}")
+    f = np.geomspace(*TRACK_FREQUENCIES_HZ[:2], TRACK_FREQUENCIES_HZ[2]) if frequencies_hz is None else \
+        np.atleast_1d(np.asarray(frequencies_hz, float))
+    if f.ndim != 1 or f.size < 2 or not np.all(np.isfinite(f)) or f.min() <= 0 or f.max() > 1e5:
+        raise ScenarioError(f"frequencies_hz: expected at least two frequencies in (0, 1e5] Hz, got {frequencies_hz!r}")
+    track, case = build.track(sc), build.vehicle_case(sc)
+    positions = ["midspan", "sleeper"] if track.discrete else ["continuous"]
+    alpha = np.array([receptance(track, f, p if track.discrete else 0.0) for p in positions])
+    model = VehicleTrackModel(case.wheel(build.one_speed(sc)), track, sc.track.bay_positions)
+    force = model.contact_force_transfer(2 * np.pi * f)
+    ds = xr.Dataset(
+        {"receptance_magnitude": (("position", "frequency"), np.abs(alpha),
+                                  {"units": "m N-1", "long_name": "vertical point receptance of the rail"}),
+         "receptance_phase": (("position", "frequency"), np.degrees(np.angle(alpha)),
+                              {"units": "degree", "long_name": "phase of the receptance"}),
+         "contact_force_transfer": (("frequency",), np.abs(force),
+                                    {"units": "N m-1", "long_name": "normal force per radius deviation, bay averaged"}),
+         "p2_frequency": ((), p2_frequency(model), {"units": "Hz", "long_name": "P2 resonance of wheel and track"})},
+        coords={"frequency": ("frequency", f, {"units": "Hz", "long_name": "frequency"}),
+                "position": ("position", positions, {"long_name": "load position in the bay"})},
+        attrs={"scenario_name": sc.name, "scenario_hash": scenario_hash(sc), "source": "track receptance",
+               "track": f"{sc.track.rail} ({sc.track.beam}), {sc.track.support} support"
+                        + (f" at {sc.track.sleeper_spacing_m:g} m" if track.discrete else "")})
+    if track.discrete:
+        ds["pinned_pinned_frequency"] = ((), track.pinned_pinned_frequency(),
+                                         {"units": "Hz", "long_name": "pinned-pinned frequency of the rail"})
+    return ds

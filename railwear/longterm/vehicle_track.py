@@ -36,7 +36,8 @@ from railwear.errors import ScenarioError
 from railwear.longterm.fourier import Fourier, stability_map
 from railwear.track import Support, Track, rail, receptance
 
-__all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "METRO", "bay_offsets"]
+__all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "METRO", "bay_offsets",
+           "p2_frequency"]
 
 GRAVITY = 9.81  # m/s²
 _RAIL_STATE = 6  # z_r in the disk wheel's state vector
@@ -145,6 +146,13 @@ class VehicleTrackModel:
     def contact_force_transfer(self, angular_frequency) -> np.ndarray:
         """``N̂ / ū`` [N/m], bay-averaged: ``1 / (α_w + 1/k_c + α)`` at each offset."""
         return self.transfer(angular_frequency, "normal_force")
+
+
+def p2_frequency(model: VehicleTrackModel, low=20.0, high=150.0, points=2601) -> float:
+    """The P2 resonance [Hz]: the peak of the bay-averaged ``|N/ū|`` of ``model`` over ``low``-``high``
+    Hz (on a grid of ``points``)."""
+    f = np.linspace(low, high, points)
+    return float(f[np.argmax(np.abs(model.contact_force_transfer(2 * np.pi * f)))])
 
 
 def vehicle_track_fourier(wheel, track, speed, law, band_width, positions=8, driver="frictional_power") -> Fourier:
