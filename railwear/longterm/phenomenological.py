@@ -32,21 +32,32 @@ class Phenomenological(Strategy, name="phenomenological"):
         ``checkpoint`` is called with a :class:`~railwear.longterm.base.Checkpoint` of the PDE
         solver's state after each output interval; ``resume`` continues from one.
         """
-        from railwear.pde.evolution import EvolutionCheckpoint
-
-        save = None if checkpoint is None else (
-            lambda cp: checkpoint(Checkpoint(self.name, cp.fingerprint, asdict(cp))))
-        if resume is not None:
-            resume.check(self.name, resume.fingerprint)
-            resume = EvolutionCheckpoint(**resume.fields)
+        save, resume = solver_checkpoints(self.name, checkpoint, resume)
         ds = solve_evolution(u0, until, as_wear_rate(self.h), self.speed, self.epsilon, self.nu,
                              depth_limit=depth_limit, progress=progress, checkpoint=save,
                              resume=resume, drift=self.drift, dispersion=self.dispersion, **self.options)
-        steps = np.round(np.asarray(ds.stop_time) / np.asarray(ds.time_step))
-        ds["cost_time_steps"] = (ds.stop_time.dims, steps,
-                                 {"units": "1", "long_name": "ETDRK4 steps at the final step size"})
-        ds = ds.assign_coords(distance=("time", ds.time.values * self.life_distance / KM,
-                                        {"units": "km", "long_name": "distance run"}))
-        ds.attrs.update(strategy=self.name, body="disk_wheel", scenario_hash="",
-                        strategy_description="phenomenological evolution equation")
-        return describe(ds)
+        return finish(ds, self.name, self.life_distance, "phenomenological evolution equation")
+
+
+def solver_checkpoints(name, checkpoint, resume):
+    """The PDE solver's ``(checkpoint, resume)`` for a strategy's: its states wrapped in and
+    unwrapped from a :class:`~railwear.longterm.base.Checkpoint` of kind ``name``."""
+    from railwear.pde.evolution import EvolutionCheckpoint
+
+    save = None if checkpoint is None else (lambda cp: checkpoint(Checkpoint(name, cp.fingerprint, asdict(cp))))
+    if resume is not None:
+        resume.check(name, resume.fingerprint)
+        resume = EvolutionCheckpoint(**resume.fields)
+    return save, resume
+
+
+def finish(ds, name, life_distance, description):
+    """A solved evolution equation as a strategy's result: the cost in ETDRK4 steps, the distance
+    (km at ``life_distance`` m per unit normed time), the contract's attributes and the spectra."""
+    steps = np.round(np.asarray(ds.stop_time) / np.asarray(ds.time_step))
+    ds["cost_time_steps"] = (ds.stop_time.dims, steps,
+                             {"units": "1", "long_name": "ETDRK4 steps at the final step size"})
+    ds = ds.assign_coords(distance=("time", ds.time.values * life_distance / KM,
+                                    {"units": "km", "long_name": "distance run"}))
+    ds.attrs.update(strategy=name, body="disk_wheel", scenario_hash="", strategy_description=description)
+    return describe(ds)
