@@ -44,7 +44,7 @@ def test_spectrum_floor_wavelength_axis_and_bands(result):
     assert ax.get_ylim()[0] == pytest.approx(floor / 1.6, rel=1e-9)
     # the top axis: wavelength pi D / n with D = 2 R0 = 0.92 m, labelled with its origin
     top = [a for a in ax.child_axes if "wavelength" in a.get_xlabel()]
-    assert len(top) == 1 and "D = 0.92 m (from the result)" in top[0].get_xlabel()
+    assert len(top) == 1 and "D = 0.92 m (from the" in top[0].get_xlabel()
     for tick in top[0].get_xticks():  # each tick sits at its order pi D / lambda
         assert 1 <= np.pi * 0.92 / tick <= ax.get_xlim()[1]
     # the band panel: the end's levels are the EN 15610 bands of the end state
@@ -79,8 +79,11 @@ def test_spectrum_draws_the_iso3095_limit_and_counts_bands_above(result):
     assert f"low: {low_count} bands above" in label
 
 
-def test_spectrum_diameter_from_scenario_argument_or_none(result):
-    no_radius = result.drop_vars("nominal_radius")
+def test_spectrum_diameter_from_result_scenario_argument_or_none(result):
+    no_radius = result.drop_vars("nominal_radius", errors="ignore")
+    with_radius = no_radius.assign(nominal_radius=((), 0.5, {"units": "m"}))
+    label = [a for a in plots.spectrum(with_radius).axes[0].child_axes][0].get_xlabel()
+    assert "D = 1 m (from the result)" in label
     label = [a for a in plots.spectrum(no_radius).axes[0].child_axes][0].get_xlabel()
     assert "D = 0.92 m (from the scenario)" in label
     label = [a for a in plots.spectrum(no_radius, diameter=1.25).axes[0].child_axes][0].get_xlabel()
