@@ -133,12 +133,38 @@ class _Progress:
             self.bar.stop()
 
 
-def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None):
+# The files railwear writes besides result.nc: how each is known, its figure's name, the function
+# of railwear.plots that draws it. The commands that write them and 'railwear plot' share it.
+_FILES = (
+    (lambda ds: "growth_rate" in ds and "order" in ds.dims, "stability", "stability"),  # stability
+    (lambda ds: "base_scenario_hash" in ds.attrs and "regime" in ds, "sweep", "sweep"),  # sweep
+    (lambda ds: "crossing_distance" in ds and "limit_m" in ds.attrs, "forecast", "forecast"),  # forecast
+    (lambda ds: "critical_speed" in ds and "conicity" in ds.dims, "hunting", "hunting_map"),  # hunting-map
+    (lambda ds: "amplitude" in ds and "hopf_speed" in ds.attrs, "bifurcation", "bifurcation"),  # simulate
+    (lambda ds: "lateral_displacement" in ds, "hunting", "lateral_motion"),
+    (lambda ds: "contact_angle" in ds and "frictional_power" in ds, "contact-path", "contact_path"),
+)
+
+
+def _draw(ds, directory):
+    """Save the figure of a file railwear wrote (not result.nc) in ``directory``; returns the
+    paths (none for a sweep of which no point ran, or for a file of no known kind)."""
+    from railwear import plots
+
+    for known, name, make in _FILES:
+        if known(ds):
+            if name == "sweep" and not bool((ds.error == "").any()):
+                return []  # a figure of no point at all would be empty
+            return [plots.save(getattr(plots, make)(ds), Path(directory) / f"{name}.png")]
+    return []
+
+
+def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None, sets=()):
     from railwear import api, plots, results
 
     checkpoint = _output(output) / "checkpoint.npz"
     try:
-        sc = None if scenario is None and resume_path is not None else api.load_scenario(scenario)
+        sc = None if scenario is None and resume_path is not None else api.load_scenario(scenario, sets)
         label = f"railwear {sc.name if sc else 'resume'}"
         with _Warnings(), _Progress(label) as progress:
             if resume_path is None and checkpoint.exists():  # an earlier run's: only the newest resumes
@@ -162,6 +188,19 @@ def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None
     typer.echo(f"wrote {output / 'result.nc'}")
 
 
+Sets = Annotated[list[str], typer.Option(
+    "--set", metavar="FIELD=VALUE",
+    help="set a scenario field, e.g. operation.speed_kmh=180 or strategy.kind=stepwise; the value is "
+         "read as TOML (180, \"x\", [1, 2], true; a bare word is text); repeat for more")]
+
+
+def _scenario(scenario, sets):
+    """The scenario (file or built-in name) with the ``--set`` fields, or None with neither."""
+    from railwear.scenario import load_scenario
+
+    return scenario if not sets else load_scenario(scenario, sets)
+
+
 CheckpointEvery = Annotated[float, typer.Option(
     help="seconds of wall time between checkpoints (DIR/checkpoint.npz); 0 saves every output interval")]
 
@@ -172,10 +211,11 @@ def run(
     output: Annotated[Path, typer.Option("-o", "--output", help="output directory")] = Path("railwear-out"),
     figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
     checkpoint_every: CheckpointEvery = 30.0,
+    sets: Sets = [],
 ):
     """Run a scenario; write DIR/result.nc, summary.txt, summary.json and figures."""
     _option(checkpoint_every, "--checkpoint-every", 0, 1e9)
-    _run_and_write(scenario, output, figures, checkpoint_every)
+    _run_and_write(scenario, output, figures, checkpoint_every, sets=sets)
 
 
 @app.command()
@@ -194,26 +234,33 @@ def resume(
 
 @app.command()
 def plot(
-    result: Annotated[Path, typer.Argument(help="a result.nc written by 'railwear run'")],
+    result: Annotated[Path, typer.Argument(help="a file railwear wrote: result.nc, stability.nc, sweep.nc, "
+                                                "forecast.nc, hunting.nc or dynamics.nc")],
     output: Annotated[Optional[Path], typer.Option("-o", "--output", help="directory (default: beside RESULT)")] = None,
 ):
-    """Draw the figures again from a result file."""
+    """Draw the figures again from a file railwear wrote."""
     from railwear import plots, results
 
     if not result.is_file():
         _fail(f"result file {result} does not exist", 2)
-    _output(output or result.parent)
+    directory = _output(output or result.parent)
     try:
         ds = results.read_netcdf(result)
     except (OSError, ValueError) as e:
         _fail(f"{result} is not a railwear result: {e}", 2)
-    from railwear.longterm.base import check_result
+    if any(known(ds) for known, _, _ in _FILES):
+        paths = _draw(ds, directory)
+        if not paths:
+            _fail(f"{result}: no point of the sweep ran (see its error variable); nothing to draw", 2)
+    else:
+        from railwear.longterm.base import check_result
 
-    try:
-        check_result(ds)
-    except ValueError as e:
-        _fail(f"{result} is not a railwear result ({e})", 2)
-    for path in plots.write_figures(ds, output or result.parent):
+        try:
+            check_result(ds)
+        except ValueError as e:
+            _fail(f"{result} is not a railwear result ({e})", 2)
+        paths = plots.write_figures(ds, directory)
+    for path in paths:
         typer.echo(f"wrote {path}")
 
 
@@ -224,13 +271,14 @@ def stability(
     orders: Annotated[str, typer.Option(help="polygon orders, A:B:STEP or list")] = "1:30:1",
     amplitude_um: Annotated[Optional[float], typer.Option(help="crest amplitude (µm) for the evolution equation; default the scenario's initial rms, 0 for the round wheel")] = None,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-out"),
+    sets: Sets = [],
 ):
     """Growth rate over speed x polygon order: DIR/stability.nc and stability.png.
 
     From the evolution equation's dispersion relation, or, for a scenario with the Fourier
     strategy, from the disk wheel's transfer functions (per km run).
     """
-    from railwear import analysis, plots, results
+    from railwear import analysis, results
     from railwear.units import UM, m_s_to_kmh
 
     v = _parse_range(speeds, "--speeds")
@@ -240,12 +288,12 @@ def stability(
     _option(amplitude_um, "--amplitude-um", 0, 1e4)
     _output(output)
     try:
-        ds = analysis.stability(scenario, v, n, None if amplitude_um is None else amplitude_um * UM)
+        ds = analysis.stability(_scenario(scenario, sets), v, n, None if amplitude_um is None else amplitude_um * UM)
     except ScenarioError as e:
         _fail(str(e), 2)
     label = ds.attrs["source"]
     results.write_netcdf(ds, output / "stability.nc")
-    plots.save(plots.stability(ds), output / "stability.png")
+    _draw(ds, output)
     unstable = ds.growth_rate.max("order") > 0
     if bool(unstable.any()):
         first = m_s_to_kmh(float(ds.speed.values[unstable.values.argmax()]))
@@ -266,15 +314,16 @@ def sweep(
     scheduler: Annotated[Optional[str], typer.Option(help="Dask scheduler address, tcp://HOST:PORT")] = None,
     scheduler_file: Annotated[Optional[Path], typer.Option(help="Dask scheduler file")] = None,
     batch: Annotated[bool, typer.Option(help="run a grid over the speed alone as one batched solve")] = True,
+    sets: Sets = [],
 ):
     """Run a scenario over a grid or sample of fields; DIR/sweep.nc, DIR/points/, sweep.png."""
-    from railwear import api, plots, sweep as sweeps
+    from railwear import api, sweep as sweeps
 
     if not vary:
         _fail("--vary: give at least one NAME=A:B:STEP", 2)
     try:
         _output(output)
-        base = api.load_scenario(scenario)
+        base = api.load_scenario(scenario, sets)
         varies = [sweeps.parse_vary(v) for v in vary]
         for assignment in sweeps.design(varies, samples, seed)[1][:1]:
             sweeps._assign(base, assignment)  # a field that is none fails here, before any worker starts
@@ -298,8 +347,7 @@ def sweep(
     except ScenarioError as e:
         _fail(str(e), 2)
     failed = int((ds.error != "").sum())
-    if failed < ds.error.size:  # a figure of no point at all would be empty
-        plots.save(plots.sweep(ds), output / "sweep.png")
+    _draw(ds, output)
     _print_sweep_table(ds)
     typer.echo(f"wrote {output / 'sweep.nc'}" + (f"; {failed} point(s) failed, see the error variable" if failed else ""))
 
@@ -351,24 +399,25 @@ def forecast(
     angle_unit: Annotated[Optional[str], typer.Option(help="deg or rad, for a column named just 'angle'")] = None,
     deviation_unit: Annotated[Optional[str], typer.Option(help="um, mm or m, for a column named just 'deviation'")] = None,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-forecast"),
+    sets: Sets = [],
 ):
     """When does this measured wheel pass its out-of-roundness limit? Median and 90 % band."""
     from railwear import forecast as forecasts
-    from railwear import plots, results
+    from railwear import results
 
     limit_m = _parse_length(limit, "--limit")
     _option(horizon_km, "--horizon-km", 0, 1e9, low_open=True)
     try:
         _output(output)
         with _Warnings(), _Progress("railwear forecast") as progress:
-            ds = forecasts.forecast_file(measured, scenario, limit_m, samples, seed, horizon_km,
+            ds = forecasts.forecast_file(measured, _scenario(scenario, sets), limit_m, samples, seed, horizon_km,
                                          angle_unit, deviation_unit, progress=progress)
     except ScenarioError as e:
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
         _fail(str(e), 1)
     results.write_netcdf(ds, output / "forecast.nc")
-    plots.save(plots.forecast(ds), output / "forecast.png")
+    _draw(ds, output)
     text = forecasts.report(ds)
     results.write_text(text, output / "forecast.txt")
     typer.echo(text, nl=False)
@@ -385,7 +434,7 @@ def hunting_map(
     """Hunting critical speed of the wheelset over conicity x yaw stiffness: DIR/hunting.nc, hunting.png."""
     import numpy as np
 
-    from railwear import api, plots, results
+    from railwear import api, results
     from railwear import sweep as sweeps
 
     lam = _parse_range(conicity, "--conicity")
@@ -396,7 +445,7 @@ def hunting_map(
     except ScenarioError as e:
         _fail(str(e), 2)
     results.write_netcdf(ds, output / "hunting.nc")
-    plots.save(plots.hunting_map(ds), output / "hunting.png")
+    _draw(ds, output)
     v = ds.critical_speed.values
     low = np.unravel_index(np.argmin(v), v.shape)
     typer.echo(f"lowest critical speed {v[low]:.0f} km/h at conicity {lam[low[0]]:g}, "
@@ -410,7 +459,7 @@ def simulate(
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-dynamics"),
 ):
     """Run a short-time dynamics scenario: DIR/dynamics.nc and its figure (paper Figs 1-3, bifurcation)."""
-    from railwear import api, plots, results
+    from railwear import api, results
     from railwear.scenario import dynamics
     from railwear.units import m_s_to_kmh
 
@@ -424,16 +473,14 @@ def simulate(
     except NumericalInstabilityError as e:
         _fail(str(e), 1)
     results.write_netcdf(ds, output / "dynamics.nc")
-    make, name = {"wheelset": (plots.lateral_motion, "hunting"), "disk_wheel": (plots.contact_path, "contact-path"),
-                  "cooperrider": (plots.bifurcation, "bifurcation")}[sc.model.kind]
-    plots.save(make(ds), output / f"{name}.png")
+    (figure,) = _draw(ds, output)
     for key in ("linear_critical_speed_kmh",):
         if key in ds.attrs:
             typer.echo(f"linear critical speed {ds.attrs[key]:.1f} km/h")
     if "hopf_speed" in ds.attrs:
         typer.echo(f"Hopf point {m_s_to_kmh(ds.attrs['hopf_speed']):.1f} km/h, nonlinear critical speed "
                    f"{m_s_to_kmh(ds.attrs['nonlinear_critical_speed']):.1f} km/h")
-    typer.echo(f"wrote {output / 'dynamics.nc'} and {output / (name + '.png')}")
+    typer.echo(f"wrote {output / 'dynamics.nc'} and {figure}")
 
 
 @app.command()
@@ -487,15 +534,16 @@ def fit(
 @app.command()
 def scenarios():
     """List the built-in scenarios (long-term runs, then short-time dynamics for 'simulate')."""
-    from railwear.scenario import DEFAULT, builtin_names, load_scenario
-    from railwear.scenario import dynamics
+    from railwear.scenario import DEFAULT, builtin_names, builtin_text, dynamics, parse_scenario, parse_toml, validated
 
-    for name in builtin_names():
-        sc = load_scenario(name)
+    for name in builtin_names():  # the built-ins themselves, whatever the current folder holds
+        sc = parse_scenario(builtin_text(name), source=name)
         mark = " (default)" if name == DEFAULT else ""
         typer.echo(f"{name}{mark}: {sc.description}")
     for name in dynamics.builtin_names():
-        typer.echo(f"{name} (railwear simulate): {dynamics.load_dynamics_scenario(name).description}")
+        text = (dynamics._builtin_dir() / f"{name}.toml").read_text()
+        sc = validated(dynamics.DynamicsScenario, parse_toml(text, name), name)
+        typer.echo(f"{name} (railwear simulate): {sc.description}")
 
 
 @app.command()

@@ -18,10 +18,9 @@ import xarray as xr
 
 from railwear.errors import OptionError, RailwearError, ScenarioError
 from railwear.measured import BLANK, NUMBER
-from railwear.scenario import Scenario, scenario_hash, to_toml, validated
+from railwear.scenario import SPEED_FIELDS, Scenario, field_table, scenario_hash, set_field, to_toml, validated
 from railwear.units import GPA, KMH_PER_M_S, KN
 
-SPEED_FIELDS = ("operation.speed_kmh", "operation.speed_m_s")
 POINT_SCALARS = {
     "dominant_order": ("1", "order of the largest harmonic at the end"),
     "maxima": ("1", "radius maxima round the wheel at the end"),
@@ -86,20 +85,13 @@ def _assign(base: Scenario, assignment: dict):
     field is an :class:`OptionError` (the sweep's specification, not one point, is wrong)."""
     data = base.applicable(mode="python", exclude_none=False)
     for path, value in assignment.items():
-        node, keys = data, path.split(".")
-        for key in keys[:-1]:
-            if not isinstance(node.get(key), dict):
-                raise OptionError(f"--vary {path}: no such scenario field")
-            node = node[key]
-        if keys[-1] not in node and not (path in SPEED_FIELDS):
+        node, key = field_table(data, path, "--vary")
+        if key not in node and not (path in SPEED_FIELDS):
             raise OptionError(f"--vary {path}: no such scenario field")
-        current = node.get(keys[-1])
+        current = node.get(key)
         if current is not None and (isinstance(current, bool) or not isinstance(current, (int, float))):
             raise OptionError(f"--vary {path}: not a numeric field")
-        node[keys[-1]] = int(round(value)) if isinstance(current, int) else float(value)
-        if path in SPEED_FIELDS:  # one speed field replaces the other
-            other = SPEED_FIELDS[1 - SPEED_FIELDS.index(path)].split(".")[-1]
-            node[other] = None
+        set_field(data, path, int(round(value)) if isinstance(current, int) else float(value), "--vary")
     return data
 
 

@@ -9,13 +9,13 @@ from pathlib import Path
 import tomli_w
 from pydantic import ValidationError
 
-from railwear.errors import ScenarioError
+from railwear.errors import OptionError, ScenarioError
 from railwear.scenario.schema import Scenario
 
 DEFAULT = "polygonalisation"
 
-__all__ = ["DEFAULT", "Scenario", "builtin_names", "builtin_text", "load_scenario",
-           "scenario_hash", "to_toml"]
+__all__ = ["DEFAULT", "Scenario", "builtin_names", "builtin_text", "load_scenario", "parse_set",
+           "scenario_hash", "set_field", "to_toml"]
 
 
 def _builtin_dir():
@@ -34,6 +34,13 @@ def builtin_text(name):
     return (_builtin_dir() / f"{name}.toml").read_text()
 
 
+_BRANCHES = {"bool", "dict", "float", "int", "list", "none", "str"}  # pydantic's names of union branches
+
+
+def _branch(part):
+    return isinstance(part, str) and (not part.isidentifier() or part in _BRANCHES)
+
+
 def _field_path(loc):
     """A pydantic error location as a dotted field with list indices, without the names of union
     branches (``speed_kmh[1]``, not ``speed_kmh.list[constrained-float].1``)."""
@@ -41,21 +48,43 @@ def _field_path(loc):
     for part in loc:
         if isinstance(part, int):
             out += f"[{part}]"
-        elif part.isidentifier():
+        elif not _branch(part):
             out += f".{part}" if out else part
     return out
 
 
+def _site(loc):
+    """The field an error is about: its location up to the first union branch."""
+    branch = next((i for i, part in enumerate(loc) if _branch(part)), len(loc))
+    return _field_path(loc[:branch])
+
+
+_MESSAGES = {"model_type": "should be a table", "model_attributes_type": "should be a table",
+             "dict_type": "should be a table", "extra_forbidden": "no such field", "missing": "required"}
+
+
+def _message(error):
+    """Pydantic's message in plain words: no class names, no 'after validation'."""
+    if error["type"] in _MESSAGES:
+        return _MESSAGES[error["type"]]
+    return error["msg"].removeprefix("Value error, ").replace(" after validation", "")
+
+
 def _one_line(err: ValidationError, source):
-    """The first error of a validation as one line naming its field; a union's type mismatches
-    give way to the branch that says what is wrong with the value."""
-    errors = sorted(err.errors(), key=lambda e: e["type"].endswith("_type") and len(err.errors()) > 1)
-    first = errors[0]
-    field = _field_path(first["loc"])
-    message = first["msg"].removeprefix("Value error, ")
-    fields = {_field_path(e["loc"]) for e in errors} - {_field_path(first["loc"])}
-    more = f" (and {len(fields)} more)" if fields else ""
-    return f"{source}: field '{field or 'scenario'}': {message}{more}"
+    """The first error of a validation as one line naming its field. Of a union's branches the
+    one that got furthest speaks (a bound broken before a type mismatched); branches that all
+    mismatched the type are joined with 'or'."""
+    errors = err.errors()
+    site = _site(errors[0]["loc"])
+    branches = [e for e in errors if _site(e["loc"]) == site]
+    rank = lambda e: (not e["type"].endswith("_type"), len(e["loc"]))  # noqa: E731
+    best = max(map(rank, branches))
+    chosen = [e for e in branches if rank(e) == best]
+    messages = list(dict.fromkeys(_message(e) for e in chosen))
+    message = messages[0] + "".join(" or " + m.removeprefix("Input should be ") for m in messages[1:])
+    more = {_site(e["loc"]) for e in errors} - {site}
+    more = f" (and {len(more)} more)" if more else ""
+    return f"{source}: field '{_field_path(chosen[0]['loc']) or 'scenario'}': {message}{more}"
 
 
 def decode_text(data: bytes, source, error=ScenarioError):
@@ -103,8 +132,10 @@ def validated(model, data, source):
 
 
 def parse_scenario(text, source="scenario", base_dir=None):
-    """Validate TOML text into a :class:`Scenario`; a relative ``initial.file`` is taken from ``base_dir``."""
-    scenario = validated(Scenario, parse_toml(text, source), source)
+    """Validate TOML text (or its plain data) into a :class:`Scenario`; a relative
+    ``initial.file`` is taken from ``base_dir``."""
+    data = parse_toml(text, source) if isinstance(text, str) else text
+    scenario = validated(Scenario, data, source)
     file = scenario.initial.file
     if file and base_dir is not None and not Path(file).is_absolute():
         initial = scenario.initial.model_copy(update={"file": str(Path(base_dir, file).resolve())})
@@ -112,17 +143,106 @@ def parse_scenario(text, source="scenario", base_dir=None):
     return scenario
 
 
-def load_scenario(path_or_name=None):
-    """A scenario from a TOML file or a built-in name (the default scenario when ``None``)."""
-    if isinstance(path_or_name, Scenario):
-        return path_or_name
-    name = DEFAULT if path_or_name is None else str(path_or_name)
+def scenario_text(path_or_name, names, directory, kind="scenario"):
+    """``(text, source, base_dir)`` of a scenario: a path that exists as a file is read, otherwise
+    the built-in of that name (``names``, in ``directory``); a folder is never a scenario."""
+    name = str(path_or_name)
     path = Path(name)
-    if path.suffix == ".toml" or path.exists():
-        if not path.is_file():
-            raise ScenarioError(f"scenario file {name} does not exist")
-        return parse_scenario(read_text(path), source=path.name, base_dir=path.parent)
-    return parse_scenario(builtin_text(name), source=name)
+    try:
+        is_file, is_dir, exists = path.is_file(), path.is_dir(), path.exists()
+    except OSError:  # a name too long for the file system: nothing there
+        is_file = is_dir = exists = False
+    if is_file:
+        return read_text(path), path.name, path.parent
+    if name in names:
+        return (directory / f"{name}.toml").read_text(), name, None
+    known = f"built-in {kind}s: {', '.join(names)}"
+    if is_dir:
+        raise ScenarioError(f"{name} is a folder, not a {kind} file; {known}")
+    if exists:
+        raise ScenarioError(f"{name} is not a {kind} file (not a regular file)")
+    if path.suffix == ".toml" or "/" in name or "\\" in name:
+        raise ScenarioError(f"{kind} file {name} does not exist")
+    raise ScenarioError(f"no built-in {kind} {name!r}; {known}")
+
+
+SPEED_FIELDS = ("operation.speed_kmh", "operation.speed_m_s")  # one replaces the other
+
+
+def field_table(data, path, what, create=False):
+    """``(table, key)`` of the dotted field ``path`` in plain scenario ``data``; missing tables
+    are made with ``create``, otherwise (or through a value) an :class:`OptionError` naming ``what``."""
+    node, keys = data, path.split(".")
+    if not all(k.strip() for k in keys):
+        raise OptionError(f"{what} {path!r}: expected a dotted scenario field such as operation.speed_kmh")
+    for key in keys[:-1]:
+        if create and key not in node:
+            node[key] = {}
+        if not isinstance(node.get(key), dict):
+            raise OptionError(f"{what} {path}: no such scenario field")
+        node = node[key]
+    return node, keys[-1]
+
+
+def set_field(data, path, value, what="--set", create=False):
+    """Set the dotted field ``path`` of plain scenario ``data``; a speed field replaces the other."""
+    node, key = field_table(data, path, what, create)
+    node[key] = value
+    if path in SPEED_FIELDS:
+        node.pop(SPEED_FIELDS[1 - SPEED_FIELDS.index(path)].split(".")[-1], None)
+
+
+def parse_set(text):
+    """``FIELD=VALUE`` as ``(field, value)``, the value a TOML value (``180``, ``"x"``, ``[1, 2]``,
+    ``true``) or else a bare word taken as a string (``stepwise``)."""
+    field, sep, value = text.partition("=")
+    field, value = field.strip(), value.strip()
+    if not sep or not field or not value:
+        raise OptionError(f"--set {text!r}: expected FIELD=VALUE, e.g. operation.speed_kmh=180")
+    try:
+        return field, tomllib.loads(f"v = {value}")["v"]
+    except (tomllib.TOMLDecodeError, RecursionError) as e:
+        if value[0] in "[{\"'":
+            raise OptionError(f"--set {field}: not a TOML value ({e})") from None
+        return field, value
+
+
+KINDS = ("strategy.kind", "strategy.body", "wear.law")  # the fields that choose which others apply
+
+
+def _within(data, allowed):
+    """``data`` with only the keys, table by table, that ``allowed`` has."""
+    return {k: _within(v, allowed[k]) if isinstance(v, dict) and isinstance(allowed[k], dict) else v
+            for k, v in data.items() if k in allowed}
+
+
+def load_scenario(path_or_name=None, overrides=()):
+    """A scenario from a TOML file or a built-in name (the default scenario when ``None``), with
+    ``overrides`` (``FIELD=VALUE`` texts or a ``{field: value}`` mapping) set as if in the file;
+    an override of a kind (:data:`KINDS`) drops the file's fields that do not apply to the new one."""
+    if isinstance(path_or_name, Scenario):
+        base, source, base_dir = path_or_name, path_or_name.name, None
+        data = base.model_dump(mode="python", exclude_unset=True)
+    else:
+        text, source, base_dir = scenario_text(DEFAULT if path_or_name is None else path_or_name,
+                                               builtin_names(), _builtin_dir())
+        data = parse_toml(text, source)
+        base = parse_scenario(data, source, base_dir)
+    if not overrides:
+        return base
+    sets = dict(overrides.items() if isinstance(overrides, dict) else map(parse_set, overrides))
+    source = f"{source} with --set"
+    current = {field: getattr(getattr(base, field.split(".")[0]), field.split(".")[1]) for field in KINDS}
+    if any(sets.get(field, value) != value for field, value in current.items()):
+        kinds = {}
+        for field, value in current.items():
+            set_field(kinds, field, sets.get(field, value), create=True)
+        data = _within(data, validated(Scenario, kinds, source).applicable(mode="python", exclude_none=False))
+    for field, value in sets.items():
+        if field == "initial.file" and isinstance(value, str):  # a file named on the command line
+            value = str(Path(value).resolve())
+        set_field(data, field, value, create=True)
+    return parse_scenario(data, source, base_dir)
 
 
 def to_toml(scenario: Scenario):

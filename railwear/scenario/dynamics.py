@@ -11,14 +11,13 @@ Built-in ones ship in ``builtin_dynamics/`` (``railwear simulate NAME``).
 import functools
 import math
 from importlib import resources
-from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from railwear.errors import ScenarioError
-from railwear.scenario import parse_toml, read_text, validated
+from railwear.scenario import parse_toml, scenario_text, validated
 from railwear.scenario.schema import MAX_LIST, Count, Name, PathText, Speed_kmh, Text, _printable
 from railwear.units import UM
 
@@ -94,15 +93,7 @@ def builtin_names():
 
 def load_dynamics_scenario(path_or_name):
     """A dynamics scenario from a TOML file or a built-in name."""
-    path = Path(str(path_or_name))
-    if path.suffix == ".toml" or path.exists():
-        if not path.is_file():
-            raise ScenarioError(f"scenario file {path} does not exist")
-        text, source = read_text(path), path.name
-    elif str(path_or_name) in builtin_names():
-        text, source = (_builtin_dir() / f"{path_or_name}.toml").read_text(), str(path_or_name)
-    else:
-        raise ScenarioError(f"no dynamics scenario {path_or_name!r}; built-in: {', '.join(builtin_names())}")
+    text, source, _ = scenario_text(path_or_name, builtin_names(), _builtin_dir(), "dynamics scenario")
     return validated(DynamicsScenario, parse_toml(text, source), source)
 
 
