@@ -110,8 +110,9 @@ def spectrum(ds, diameter=None, limit=None):
     amp = {(i, k): bands.order_amplitudes(d.u.isel(time=k).values) for i, (_, d) in enumerate(rows) for k in (0, -1)}
     orders = amp[(0, 0)][0]
     amp = {key: a / UM for key, (_, a) in amp.items()}
-    peak = max(float(np.max(a)) for a in amp.values())
-    floor = peak / SPECTRUM_RANGE if peak > 0 else 1e-3
+    # 40 dB under the peak, never under 1 pm (-120 dB re 1 µm): round-off is not drawn as a spectrum
+    floor = max(max(float(np.max(a)) for a in amp.values()) / SPECTRUM_RANGE, 1e-6)
+    peak = max(max(float(np.max(a)) for a in amp.values()), floor * SPECTRUM_RANGE)
     above = np.nonzero(np.any([a > floor for a in amp.values()], axis=0))[0]
     top = int(np.clip((above[-1] + 3) if above.size else 20, 20, orders.size))
     n = orders[:top]
@@ -129,7 +130,7 @@ def spectrum(ds, diameter=None, limit=None):
     ax.set_yscale("log")
     ax.set_ylim(floor / 1.6, peak * 2.5)
     ax.axhline(floor, color="0.6", lw=0.8, ls=":")
-    ax.plot([], [], ls="none", marker="o", mfc="white", color="0.4", label="under peak - 40 dB (on the floor)")
+    ax.plot([], [], ls="none", marker="o", mfc="white", color="0.4", label="under the floor: peak - 40 dB, at least 1 pm")
     ax.xaxis.get_major_locator().set_params(integer=True)
     ax.set(xlabel="polygon order n", ylabel="amplitude per order (µm)", xlim=(0.5, top + 0.5),
            title=_title(ds, "polygon spectrum at the start and the end"))
@@ -152,8 +153,9 @@ def spectrum(ds, diameter=None, limit=None):
             picks.append(t)
     wl_ax.set_xticks(picks, [f"{t:g}" for t in picks])
     wl_ax.set_xlabel(f"wavelength π D / n (m), wheel diameter D = {d_wheel:g} m ({origin})", fontsize="small")
-    band_peak = max(float(np.max(lv.level)) for lv in levels.values())
-    band_floor = band_peak - 10 * np.log10(SPECTRUM_RANGE**2)
+    # 40 dB under the largest band, never under 1 pm rms (-120 dB re 1 µm)
+    band_floor = max(max(float(np.max(lv.level)) for lv in levels.values()) - 20 * np.log10(SPECTRUM_RANGE),
+                     -120.0)
     for i, (label, _) in enumerate(rows):
         for k, style, marker, when in ((0, "--", ".", "start"), (-1, "-", "o", "end")):
             lv = levels[(i, k)]
@@ -173,11 +175,14 @@ def spectrum(ds, diameter=None, limit=None):
     band_ax.plot([], [], ls="none", marker="o", mfc="white", color="0.4",
                  label=f"band longer than L/4 = {circumference / 4:.2f} m (not resolved)")
     band_ax.set_ylim(bottom=band_floor - 3)
-    span = np.concatenate([lv.wavelength for lv in levels.values()])
+    span = np.concatenate([lv.wavelength for lv in levels.values()] + ([limit.wavelength] if limit is not None else []))
     band_ticks = bands.nominal_wavelength(np.arange(-9, 40, 3))
     band_ticks = band_ticks[(band_ticks <= span.max() * 1.05) & (band_ticks >= span.min() / 1.05)]
     band_ax.set_xscale("log")
-    band_ax.invert_xaxis()
+    band_ax.set_xlim(span.max() * 1.12, span.min() / 1.12)  # long waves on the left, as EN 15610 draws them
+    if not any(np.any(np.isfinite(lv.level)) for lv in levels.values()):
+        band_ax.text(0.5, 0.5, "a round wheel: no band holds any energy", ha="center", va="center",
+                     transform=band_ax.transAxes)
     band_ax.set_xticks(band_ticks, [f"{t:g}" for t in band_ticks])
     band_ax.set(xlabel="wavelength, one-third-octave band centre (m)", ylabel="band level (dB re 1 µm)",
                 title="one-third-octave band levels in wavelength (EN 15610), 40 dB under the peak")

@@ -56,6 +56,7 @@ def test_spectrum_floor_wavelength_axis_and_bands(result):
     np.testing.assert_allclose(shown[keep], end.level[keep], rtol=0, atol=1e-12)
     band_peak = max(np.max(bands.band_levels(result.u.isel(time=k).values, 0.92).level) for k in (0, -1))
     assert np.nanmin(shown) >= band_peak - 40 - 1e-9 and keep.sum() >= 8
+    np.testing.assert_array_equal(keep, end.level >= band_peak - 40)  # every band within 40 dB is drawn
     assert band_ax.xaxis_inverted() and band_ax.get_xscale() == "log"
     assert "dB re 1 µm" in band_ax.get_ylabel() and "(m)" in band_ax.get_xlabel()
 
@@ -124,8 +125,23 @@ def test_polar_is_drawn_by_run(result, tmp_path):
 def test_batch_rows(batch):
     fig = plots.spectrum(batch)
     _finite_axes(fig)
-    assert len([line for line in _curves(fig.axes[1]) if line.get_label().endswith("end")]) == 3
+    ends = [line for line in _curves(fig.axes[1]) if line.get_label().endswith("end")]
+    assert len(ends) == 3
+    levels = [bands.band_levels(batch.u.isel(speed=i, time=k).values, 0.92).level for i in range(3) for k in (0, -1)]
+    band_peak = max(np.max(lv) for lv in levels)
+    for line, lv in zip(ends, levels[1::2]):  # every band within 40 dB of the largest is drawn
+        np.testing.assert_array_equal(np.isfinite(np.asarray(line.get_ydata(), float)), lv >= band_peak - 40)
     fig = plots.polar(batch)
     _finite_axes(fig)
     assert len(fig.axes) == 3 and all(ax.name == "polar" for ax in fig.axes)
     assert re.search(r"exaggerated about [\d,]+x to [\d,]+x", fig.get_suptitle())
+
+
+def test_round_wheel_draws_without_error(result):
+    flat = result.assign(u=result.u * 0 - 1e-4)
+    fig = plots.spectrum(flat)
+    _finite_axes(fig)
+    drawn = np.concatenate([line.get_ydata() for line in fig.axes[0].get_lines() if len(line.get_ydata())])
+    assert np.all(drawn == 1e-6)  # everything on the 1 pm floor, not at round-off
+    assert "round wheel" in fig.axes[1].texts[0].get_text()
+    _finite_axes(plots.polar(flat))
