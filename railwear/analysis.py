@@ -151,7 +151,7 @@ def track_receptance(scenario=None, frequencies_hz=None):
     track, case = build.track(sc), build.vehicle_case(sc)
     positions = ["midspan", "sleeper"] if track.discrete else ["continuous"]
     alpha = np.array([receptance(track, f, p if track.discrete else 0.0) for p in positions])
-    model = VehicleTrackModel(case.wheel(build.one_speed(sc)), track, sc.track.bay_positions)
+    model = VehicleTrackModel(case.wheel(build.one_speed(sc)), track, sc.track.bay_positions, case.wheel_modes)
     force = model.contact_force_transfer(2 * np.pi * f)
     ds = xr.Dataset(
         {"receptance_magnitude": (("position", "frequency"), np.abs(alpha),

@@ -36,8 +36,8 @@ from railwear.errors import ScenarioError
 from railwear.longterm.fourier import Fourier, stability_map
 from railwear.track import Support, Track, rail, receptance
 
-__all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "METRO", "bay_offsets",
-           "p2_frequency"]
+__all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "METRO", "HIGH_SPEED",
+           "bay_offsets", "p2_frequency", "coupled_resonance"]
 
 GRAVITY = 9.81  # m/s²
 _RAIL_STATE = 6  # z_r in the disk wheel's state vector
@@ -70,11 +70,14 @@ class VehicleTrackModel:
     ``radius``, ``traction_torque``, ``static_load``, ``patch_half_length``,
     ``steady_creepage()``, ``transfer``, ``contact_force_transfer``), so that constructor and
     :func:`~railwear.longterm.fourier.stability_map` take it unchanged. ``positions``: see
-    :func:`bay_offsets`."""
+    :func:`bay_offsets`. ``wheel_modes``: flexible modes of the wheelset as modal data
+    ``(frequency_hz, modal_mass_kg, damping_ratio)``, the modal mass at the contact point; each
+    adds the compliance ``1 / (m_k (ω_k² - ω² + 2iζ_k ω_k ω))`` in series with the rail's."""
 
     wheel: DiskWheelModel
     track: Track
     positions: int | str | float = 8
+    wheel_modes: tuple = ()
 
     def __post_init__(self):
         if not isinstance(self.wheel, DiskWheelModel):
@@ -83,6 +86,10 @@ class VehicleTrackModel:
             raise ScenarioError("track: must be a railwear.track.Track")
         if self.wheel.rail_mass is not None:
             raise ScenarioError("wheel.rail_mass: must be None, the track replaces the rail mass on a pad")
+        modes = np.asarray(self.wheel_modes, float).reshape(-1, 3)
+        if not (np.all(np.isfinite(modes)) and np.all(modes[:, :2] > 0) and np.all(modes[:, 2] >= 0)):
+            raise ScenarioError("wheel_modes: each mode is (frequency_hz > 0, modal_mass_kg > 0, damping_ratio >= 0)")
+        object.__setattr__(self, "_modes", modes)
         offsets, weights = bay_offsets(self.track, self.positions)
         object.__setattr__(self, "_offsets", offsets)
         object.__setattr__(self, "_weights", weights)
@@ -111,6 +118,16 @@ class VehicleTrackModel:
             self._cache[key] = np.array([receptance(self.track, f, d) for d in self._offsets])
         return self._cache[key]
 
+    def wheel_mode_receptance(self, angular_frequency) -> np.ndarray:
+        """The flexible wheelset's compliance at the contact [m/N]: ``Σ_k 1 / (m_k (ω_k² - ω² +
+        2iζ_k ω_k ω))`` (zero without ``wheel_modes``)."""
+        omega = np.atleast_1d(np.asarray(angular_frequency, float))
+        out = np.zeros(omega.shape, complex)
+        for f, mass, zeta in self._modes:
+            w = 2 * np.pi * f
+            out += 1.0 / (mass * (w**2 - omega**2 + 2j * zeta * w * omega))
+        return out
+
     def remember(self, angular_frequency, alpha):
         """Use ``alpha`` (``(offsets, len(ω))``, m/N) as the rail receptance at these ``ω``
         (rad/s): a map evaluates the track once for all speeds."""
@@ -138,7 +155,8 @@ class VehicleTrackModel:
             raise ScenarioError(f"output: must be one of {self.LINEAR_OUTPUTS}, got {output!r}")
         row = self.LINEAR_OUTPUTS.index(output)
         gu, gr = self.wheel_terms(angular_frequency)
-        alpha = self.rail_receptance(angular_frequency)
+        # The wheel's flexible deflection at the contact lowers the approach as the rail's does.
+        alpha = self.rail_receptance(angular_frequency) + self.wheel_mode_receptance(angular_frequency)[None, :]
         z = -alpha * gu[:, 0] / (1 + alpha * gr[:, 0])
         out = self._weights @ (gu[:, row] + gr[:, row] * z)
         return out if np.ndim(angular_frequency) else out[0]
@@ -148,26 +166,35 @@ class VehicleTrackModel:
         return self.transfer(angular_frequency, "normal_force")
 
 
-def p2_frequency(model: VehicleTrackModel, low=20.0, high=150.0, points=2601) -> float:
-    """The P2 resonance [Hz]: the peak of the bay-averaged ``|N/ū|`` of ``model`` over ``low``-``high``
-    Hz (on a grid of ``points``)."""
+def p2_frequency(model: VehicleTrackModel) -> float:
+    """The P2 resonance [Hz]: :func:`coupled_resonance` over 20-150 Hz."""
+    return coupled_resonance(model, 20.0, 150.0, 2601)
+
+
+def coupled_resonance(model: VehicleTrackModel, low, high, points=4001) -> float:
+    """The resonance [Hz] of wheel, contact and track between ``low`` and ``high`` Hz: the peak of
+    the bay-averaged ``|N/ū|`` there (the P2 resonance over 20-150 Hz)."""
     f = np.linspace(low, high, points)
     return float(f[np.argmax(np.abs(model.contact_force_transfer(2 * np.pi * f)))])
 
 
-def vehicle_track_fourier(wheel, track, speed, law, band_width, positions=8, driver="frictional_power") -> Fourier:
-    """:class:`Fourier` rates of ``wheel`` (a rigid-rail :class:`DiskWheelModel`) on ``track`` at
-    ``speed`` (m/s), as :meth:`Fourier.disk_wheel` gives them for the disk wheel."""
-    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions)
+def vehicle_track_fourier(wheel, track, speed, law, band_width, positions=8, driver="frictional_power",
+                          wheel_modes=()) -> Fourier:
+    """:class:`Fourier` rates of ``wheel`` (a rigid-rail :class:`DiskWheelModel`, with
+    ``wheel_modes``) on ``track`` at ``speed`` (m/s), as :meth:`Fourier.disk_wheel` gives them for
+    the disk wheel."""
+    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions, wheel_modes)
     return Fourier.disk_wheel(model, law, band_width, driver)
 
 
-def growth_map(wheel, track, speeds, orders, law, band_width, positions=8, driver="frictional_power"):
+def growth_map(wheel, track, speeds, orders, law, band_width, positions=8, driver="frictional_power",
+               wheel_modes=()):
     """:func:`stability_map` (growth per km over speed × order) of ``wheel`` on ``track``, with the
     rail receptance evaluated once per bay offset for every speed's frequencies ``n Ω``."""
     speeds = np.atleast_1d(np.asarray(speeds, float))
     n = np.asarray(np.atleast_1d(orders), float)
-    models = {v: VehicleTrackModel(dataclasses.replace(wheel, speed=float(v)), track, positions) for v in speeds}
+    models = {v: VehicleTrackModel(dataclasses.replace(wheel, speed=float(v)), track, positions, wheel_modes)
+              for v in speeds}
     omegas = [n * (v * (1 + m.steady_creepage()) / m.radius) for v, m in models.items()]
     first = next(iter(models.values()))
     alpha = first.rail_receptance(np.concatenate(omegas))
@@ -184,7 +211,8 @@ class VehicleCase:
     [kg m²] (half the wheelset's polar inertia), ``sprung_mass`` [kg] (the bogie frame's share;
     ``None``: rigid frame), ``primary_stiffness`` [N/m], ``primary_damping`` [N s/m]. Contact:
     ``rail_head_radius`` [m] (the wheel tread taken flat across), ``traction_coefficient`` the
-    traction demand ``T / (W R0)``, steel ``youngs_modulus`` [Pa] and ``poisson``."""
+    traction demand ``T / (W R0)``, steel ``youngs_modulus`` [Pa] and ``poisson``; ``wheel_modes``
+    the wheelset's flexible modes (see :class:`VehicleTrackModel`)."""
 
     name: str
     diameter: float
@@ -201,6 +229,7 @@ class VehicleCase:
     friction_coefficient: float = 0.4
     youngs_modulus: float = 210e9
     poisson: float = 0.28
+    wheel_modes: tuple = ()
     sources: str = ""
 
     def wheel(self, speed) -> DiskWheelModel:
@@ -219,11 +248,13 @@ class VehicleCase:
 
     def fourier(self, speed, law, positions=8, driver="frictional_power") -> Fourier:
         """:func:`vehicle_track_fourier` of this case at ``speed`` (m/s)."""
-        return vehicle_track_fourier(self.wheel(speed), self.track, speed, law, self.band_width, positions, driver)
+        return vehicle_track_fourier(self.wheel(speed), self.track, speed, law, self.band_width, positions, driver,
+                                     self.wheel_modes)
 
     def growth_map(self, speeds, orders, law, positions=8, driver="frictional_power"):
         """:func:`growth_map` of this case over ``speeds`` (m/s) and ``orders``."""
-        return growth_map(self.wheel(speeds[0]), self.track, speeds, orders, law, self.band_width, positions, driver)
+        return growth_map(self.wheel(speeds[0]), self.track, speeds, orders, law, self.band_width, positions, driver,
+                          self.wheel_modes)
 
 
 # Metro motor car, 14 t axle load, on ballasted track (sources in docs/vehicle_track.md).
@@ -247,3 +278,22 @@ METRO = VehicleCase(
     sources="vehicle: Math. Probl. Eng. 2020, 1584624, Table 6; track: Zhai, Wang & Lin, JSV 270 (2004) 673",
 )
 
+
+
+# High-speed trailer wheel (ICE3-like), 16 t axle load, with a wheelset bending mode at 580 Hz,
+# on the metro case's ballasted track (sources in docs/vehicle_track.md).
+HIGH_SPEED = VehicleCase(
+    name="high-speed",
+    diameter=0.92,
+    static_load=16e3 / 2 * GRAVITY,  # assumption: 16 t axle load
+    unsprung_mass=1800.0 / 2,  # ICE3/AVE S103 wheelset 1800 kg (Goicolea 2014)
+    wheel_inertia=100.0,  # assumption: half a trailer wheelset's polar inertia
+    sprung_mass=650.0,  # assumption: a quarter of a 2.6 t bogie frame
+    primary_stiffness=1.2e6,  # per side (Goicolea 2014)
+    primary_damping=10e3,  # per side (Goicolea 2014)
+    track=METRO.track,
+    traction_coefficient=0.035,  # assumption: cruising at high speed
+    band_width=0.025,
+    wheel_modes=((580.0, 500.0, 0.01),),  # assumption: a bending mode where order 20 passes at 300 km/h
+    sources="wheelset and primary suspension: Goicolea 2014 (REFERENCES.md); mode, loads, frame: assumptions",
+)

@@ -12,7 +12,7 @@ from pydantic import ValidationError
 from railwear.errors import OptionError, ScenarioError
 from railwear.scenario.schema import Scenario
 
-DEFAULT = "polygonalisation"
+DEFAULT = "metro"
 
 __all__ = ["DEFAULT", "Scenario", "builtin_names", "builtin_text", "load_scenario", "parse_set",
            "scenario_hash", "set_field", "to_toml"]

@@ -157,7 +157,8 @@ def vehicle_case(scenario: Scenario):
         primary_stiffness=v.primary_stiffness_MN_m * MN, primary_damping=v.primary_damping_kN_s_m * KN,
         track=track(scenario), traction_coefficient=c.traction_coefficient, band_width=band_width(scenario),
         rail_head_radius=c.rail_head_radius_m, friction_coefficient=c.friction_coefficient,
-        youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson)
+        youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson,
+        wheel_modes=tuple(zip(v.wheel_mode_frequencies_hz, v.wheel_mode_masses_kg, v.wheel_mode_damping_ratios)))
 
 
 @builds("fourier")
@@ -276,7 +277,8 @@ def wheelset_wear(scenario: Scenario):
     shifts = np.round(np.linspace(-ww.shift_max_mm, ww.shift_max_mm, 2 * n + 1) * MM, 12)
     wheel, rail = profile(scenario, "wheel"), profile(scenario, "rail")
     table = contact_table(wheel, rail, y=shifts, axle_load=2 * w.static_load_kN * KN, rolling_radius=w.radius_m,
-                          youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson)
+                          youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson,
+        wheel_modes=tuple(zip(v.wheel_mode_frequencies_hz, v.wheel_mode_masses_kg, v.wheel_mode_damping_ratios)))
     model = TableWheelsetModel(speed=float(speed), mass=ws.mass_kg, yaw_inertia=ws.yaw_inertia_kg_m2,
                                lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=ws.yaw_stiffness_N_m_rad,
                                table=table, friction_coefficient=c.friction_coefficient)

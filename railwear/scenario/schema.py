@@ -384,13 +384,26 @@ class Vehicle(_Section):
     """``[vehicle]``: what sits on one wheel of body ``"vehicle_track"`` (the vertical disk wheel
     of ``[disk_wheel]`` without its rail: the rail is ``[track]``'s). The unsprung mass, radius and
     load are ``[wheel]``'s; per wheel: the polar inertia (half the wheelset's), the primary
-    suspension to the bogie frame's share ``sprung_mass_kg`` (none: a rigid frame). Defaults: the
-    metro motor car of docs/vehicle_track.md (Math. Probl. Eng. 2020, 1584624, Table 6)."""
+    suspension to the bogie frame's share ``sprung_mass_kg`` (none: a rigid frame); flexible modes
+    of the wheelset as modal data, one entry per mode in ``wheel_mode_frequencies_hz``,
+    ``wheel_mode_masses_kg`` (modal mass at the contact point) and ``wheel_mode_damping_ratios``
+    (none by default). Defaults: the metro motor car of docs/vehicle_track.md (Math. Probl. Eng. 2020, 1584624, Table 6)."""
 
     wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = 60.0
     sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = 855.0
     primary_stiffness_MN_m: Annotated[float, Field(ge=0, le=1e3)] = 1.7
     primary_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 10.0
+    wheel_mode_frequencies_hz: Annotated[list[Annotated[float, Field(ge=1, le=1e4)]], Field(max_length=100)] = []
+    wheel_mode_masses_kg: Annotated[list[Annotated[float, Field(ge=1, le=1e5)]], Field(max_length=100)] = []
+    wheel_mode_damping_ratios: Annotated[list[Annotated[float, Field(ge=0, le=1)]], Field(max_length=100)] = []
+
+    @model_validator(mode="after")
+    def _modes(self):
+        counts = {len(self.wheel_mode_frequencies_hz), len(self.wheel_mode_masses_kg), len(self.wheel_mode_damping_ratios)}
+        if len(counts) > 1:
+            raise ValueError("wheel_mode_frequencies_hz, wheel_mode_masses_kg and wheel_mode_damping_ratios: "
+                             "give one value per mode in each")
+        return self
 
 
 class TrackSection(_Section):

@@ -139,3 +139,14 @@ def test_track_receptance_marks_the_pinned_pinned_and_p2_frequencies():
     assert float(ds.p2_frequency) == pytest.approx(55.7, abs=0.1)
     with pytest.raises(ScenarioError, match="strategy.body"):
         railwear.track_receptance("linear-dynamics")
+
+
+def test_wheel_modes_from_the_vehicle_section():
+    def modes(data):
+        data["vehicle"].update(wheel_mode_frequencies_hz=[580.0], wheel_mode_masses_kg=[500.0],
+                               wheel_mode_damping_ratios=[0.01])
+
+    assert build.vehicle_case(_metro(modes)).wheel_modes == ((580.0, 500.0, 0.01),)
+    assert build.vehicle_case(load_scenario("metro")).wheel_modes == ()
+    with pytest.raises(ScenarioError, match="one value per mode"):
+        _metro(lambda d: d["vehicle"].update(wheel_mode_frequencies_hz=[580.0]))
