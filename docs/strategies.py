@@ -26,6 +26,7 @@ from railwear.longterm.stepwise import Stepwise
 from railwear.scenario import build, load_scenario
 
 sys.path.insert(0, str(Path(__file__).parent))
+from strategies_multiplier import multiplier_section  # noqa: E402  (the multiplier law's section, beside this script)
 from strategies_wheelset import wheelset_section  # noqa: E402  (the wheelset's section, beside this script)
 
 QUICK = "--quick" in sys.argv
@@ -239,6 +240,8 @@ def main():
         w(line)
     w("")
     w(WHY)
+    w(multiplier_section({kmh: (results[label][0]["direct"]["ds"], results[label][0]["direct"]["seconds"])
+                          for label, kmh in SPEEDS_KMH.items()}, QUICK))
     w(wheelset_section(QUICK))
     w(USAGE)
     out.write_text("\n".join(lines) + "\n")
