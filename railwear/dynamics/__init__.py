@@ -2,8 +2,9 @@
 
 - ``linear_critical_speed``: closed-form critical speed of the linear wheelset;
 - ``critical_speed(model)``: from the eigenvalue crossing of ``model.state_matrix(speed)``;
-- ``WheelsetModel``, ``TableWheelsetModel`` (real profiles), ``DiskWheelModel``, ``BogieModel``,
-  ``TableBogieModel`` (real profiles):
+- ``WheelsetModel``, ``TableWheelsetModel`` (real profiles), ``DiskWheelModel``, ``BogieModel``
+  (two wheelsets and a frame without roll), ``TableBogieModel`` (real profiles),
+  ``CooperriderBogie`` (the published Cooperrider bogie, frame roll included):
   frozen, validated model dataclasses;
 - ``build_model(kind, section)``: a model from a scenario section (unknown/missing fields are errors);
 - ``simulate(model, t_end, **options)``: a run into an ``xarray.Dataset`` (CF units, long names);
@@ -24,6 +25,7 @@ from railwear.dynamics.integration import IntegrationResult, IntegrationStats, I
 from railwear.dynamics.linear import critical_speed, linear_critical_speed, max_real_part, wheelset_state_matrix
 from railwear.dynamics.models import (
     BogieModel,
+    CooperriderBogie,
     DiskWheelModel,
     TableBogieModel,
     TableWheelsetModel,
@@ -36,6 +38,7 @@ from railwear.dynamics.bifurcation import RampDown, ramp_down
 
 __all__ = [
     "BogieModel",
+    "CooperriderBogie",
     "RampDown",
     "DiskWheelModel",
     "IntegrationResult",

@@ -46,9 +46,11 @@ def _last_state(ds):
     if "wheelset" in ds.dims:
         lat, yaw = last.lateral_displacement.values, last.yaw_angle.values
         vlat, vyaw = last.lateral_velocity.values, last.yaw_rate.values
+        roll = [float(last.frame_roll_angle)] if "frame_roll_angle" in ds else []
+        roll_rate = [float(last.frame_roll_rate)] if roll else []
         return np.array([lat[0], yaw[0], lat[1], yaw[1], float(last.frame_lateral_displacement),
-                         float(last.frame_yaw_angle), vlat[0], vyaw[0], vlat[1], vyaw[1],
-                         float(last.frame_lateral_velocity), float(last.frame_yaw_rate)])
+                         float(last.frame_yaw_angle)] + roll + [vlat[0], vyaw[0], vlat[1], vyaw[1],
+                         float(last.frame_lateral_velocity), float(last.frame_yaw_rate)] + roll_rate)
     spin = [float(last.spin_deviation)] if "spin_deviation" in ds else []
     return np.array([float(last.lateral_displacement), float(last.yaw_angle), float(last.lateral_velocity),
                      float(last.yaw_rate)] + spin)

@@ -1,4 +1,4 @@
-"""The two-axle bogie with conical wheelsets (``BogieModel``, the Cooperrider bogie) and the
+"""The two-axle bogie with conical wheelsets and no frame roll (``BogieModel``) and the
 frame fields every bogie shares (``BogieFrame``)."""
 
 from __future__ import annotations
@@ -54,12 +54,13 @@ class BogieFrame:
 
 @dataclass(frozen=True)
 class BogieModel(BogieFrame):
-    """Two-axle bogie on straight track (the Cooperrider bogie): lateral and yaw motion of two
+    """Two-axle bogie on straight track without frame roll: lateral and yaw motion of two
     conical wheelsets (``x = +-half_wheelbase``) and of the frame, which hangs from a car body moving
     at ``speed`` through a secondary lateral and yaw spring-damper. Primary: a lateral spring per
     wheelset and a yaw spring per wheelset (``2 k_longitudinal d^2``). Creep, saturation and flange
     dead band as in ``WheelsetModel`` (``creep_law`` ``"cubic"`` or ``"fastsim"``).
-    ``BogieModel.cooperrider`` gives the published parameters.
+    ``BogieModel.cooperrider`` gives a six-degree-of-freedom reading of the Cooperrider numbers
+    (the published seven-degree-of-freedom bogie is ``CooperriderBogie``).
     """
 
     f11: float
@@ -89,16 +90,18 @@ class BogieModel(BogieFrame):
 
     @classmethod
     def cooperrider(cls, speed, **overrides):
-        """The Cooperrider bogie as used by Kaas-Petersen (1986) and True and co-workers.
+        """A six-degree-of-freedom simplification with Cooperrider-like numbers: NOT the published
+        Cooperrider bogie (that is ``railwear.dynamics.CooperriderBogie``, with frame roll).
 
-        From REFERENCES.md: masses and yaw inertias, primary stiffnesses k1 = 1.823 MN/m (lateral)
-        and k2 = 3.646 MN/m (longitudinal), secondary lateral damping 20 kN s/m, ``G pi a b`` =
-        6.563 MN, rolling radius, half gauge and conicity (the last three to confirm). Not yet
-        confirmed from a primary source (taken as recalled from True's papers; override to
-        change): the longitudinal spring half-spacing 0.620 m, half wheelbase 1.074 m, secondary
-        lateral stiffness 0.1823 MN/m, secondary yaw stiffness 0.3333 MN m/rad, secondary yaw
-        damping 29.2 kN m s/rad, flange dead band 9.1 mm and stiffness 14.60 MN/m, and the linear
-        creep coefficients ``f11 = f22 = G pi a b`` (no Kalker ellipse factors).
+        It reads the published per-side springs per wheelset: primary lateral stiffness k1 =
+        1.823 MN/m for the wheelset (the published model has ``2 k1``), secondary lateral 0.1823
+        MN/m and 20 kN s/m for the frame (published ``2 k4``, ``2 D1``), and takes the secondary
+        vertical spring k5 = 0.3333 MN/m and damper D2 = 29.2 kN s/m as a secondary yaw stiffness
+        [N m/rad] and damping [N m s/rad]; no frame roll; ``f11 = f22 = G pi a b`` = 6.563 MN (no
+        Vermeulen-Johnson coefficients). Yaw stiffness ``2 k2 d1^2`` (k2 = 3.646 MN/m, d1 =
+        0.620 m), half wheelbase 1.074 m, masses and inertias, wheel geometry and flange (9.1 mm,
+        14.6 MN/m) as in ``CooperriderBogie``. Hopf point 47.87 m/s. Kept as the bogie whose
+        kernel the DAE form, the switch cuts and the FASTSIM comparison are tested on.
         """
         k2, spacing = 3.646e6, 0.620
         params = dict(

@@ -25,6 +25,7 @@ KIND_DISK_WHEEL = 3
 KIND_BOGIE = 4
 KIND_TABLE_WHEELSET = 5
 KIND_TABLE_BOGIE = 6  # the bogie's parameters (BG_*) followed by a table wheelset's (TW_*, offset BG_N_PARAMS)
+KIND_COOPERRIDER = 7  # the published Cooperrider bogie with frame roll (CP_*; railwear.dynamics.cooperrider)
 
 # ---- wheelset parameters --------------------------------------------------------------------
 WS_SPEED = 0
@@ -83,6 +84,41 @@ BG_LAW_OFFSET = 24
 BG_LAW_POINTS = 25
 BG_N_PARAMS = 26
 BG_N_OUTPUTS = 10  # see bogie_outputs
+
+# ---- the published Cooperrider bogie (7 degrees of freedom; railwear.dynamics.cooperrider) ----
+# springs and dampers per side (one of each on the left and on the right), as in Kaas-Petersen 1986
+CP_SPEED = 0
+CP_WHEELSET_MASS = 1
+CP_WHEELSET_YAW_INERTIA = 2
+CP_FRAME_MASS = 3
+CP_FRAME_YAW_INERTIA = 4
+CP_FRAME_ROLL_INERTIA = 5
+CP_PRIMARY_LATERAL_STIFFNESS = 6  # k1
+CP_PRIMARY_LONGITUDINAL_STIFFNESS = 7  # k2, at +-d1
+CP_PRIMARY_VERTICAL_STIFFNESS = 8  # k3, at +-d1
+CP_SECONDARY_LATERAL_STIFFNESS = 9  # k4, h2 above the frame's centre of mass
+CP_SECONDARY_VERTICAL_STIFFNESS = 10  # k5, at +-d2
+CP_SECONDARY_LATERAL_DAMPING = 11  # D1, with k4
+CP_SECONDARY_VERTICAL_DAMPING = 12  # D2, with k5
+CP_HALF_WHEELBASE = 13  # b
+CP_PRIMARY_SPRING_HALF_SPACING = 14  # d1
+CP_SECONDARY_SPRING_HALF_SPACING = 15  # d2
+CP_PRIMARY_HEIGHT = 16  # h1: the frame's centre of mass above the primary lateral springs
+CP_SECONDARY_HEIGHT = 17  # h2: the secondary lateral spring above the frame's centre of mass
+CP_F11 = 18
+CP_F22 = 19
+CP_HALF_GAUGE = 20
+CP_ROLLING_RADIUS = 21
+CP_CONICITY = 22
+CP_WHEEL_LOAD = 23
+CP_FRICTION = 24
+CP_FLANGE_CLEARANCE = 25
+CP_FLANGE_STIFFNESS = 26
+CP_LAW = 27  # as WS_LAW
+CP_LAW_OFFSET = 28
+CP_LAW_POINTS = 29
+CP_N_PARAMS = 30
+CP_N_OUTPUTS = 10  # as BG_N_OUTPUTS
 
 # ---- wheelset on real profiles (contact table) -------------------------------------------
 TW_SPEED = 0
@@ -392,28 +428,35 @@ def table_wheelset_outputs(t, y, p, surf, out):
 
 # ---- bogie ----------------------------------------------------------------------------------
 @njit(cache=True, inline="always")
-def _bogie_wheelset(i, y, p, surf, law):
-    """Creep and flange forces on wheelset ``i`` (0 front, 1 rear) of the bogie:
-    ``(Fy, Mz, power_left, power_right, flange)`` summed over both wheels; ``law`` as ``WS_LAW``."""
-    lat, yaw, vlat, vyaw = y[2 * i], y[2 * i + 1], y[6 + 2 * i], y[7 + 2 * i]
-    limit = p[BG_FRICTION] * p[BG_WHEEL_LOAD]
+def _conical_wheelset(lat, yaw, vlat, vyaw, v, e, r0, lam, f11, f22, f23, f33, limit, law, surf, offset, points):
+    """Creep forces on a conical wheelset in a bogie, summed over both wheels (``_creep``, no spin
+    deviation): ``(Fy, Mz, power_left, power_right)``; ``law`` as ``WS_LAW``."""
     fy = 0.0
     mz = 0.0
     power_left = 0.0
     power_right = 0.0
     for w in range(2):
         sign = 1.0 - 2.0 * w
-        _, _, _, fx, fyw, mzw, power = _creep(
-            sign, lat, yaw, vlat, vyaw, p[BG_SPEED], p[BG_HALF_GAUGE], p[BG_ROLLING_RADIUS], p[BG_CONICITY],
-            p[BG_F11], p[BG_F22], p[BG_F23], p[BG_F33], limit, 0.0, law, surf, int(p[BG_LAW_OFFSET]),
-            int(p[BG_LAW_POINTS]),
-        )
+        _, _, _, fx, fyw, mzw, power = _creep(sign, lat, yaw, vlat, vyaw, v, e, r0, lam, f11, f22, f23, f33, limit,
+                                              0.0, law, surf, offset, points)
         fy += fyw
-        mz += mzw - sign * p[BG_HALF_GAUGE] * fx
+        mz += mzw - sign * e * fx
         if w == 0:
             power_left = power
         else:
             power_right = power
+    return fy, mz, power_left, power_right
+
+
+@njit(cache=True, inline="always")
+def _bogie_wheelset(i, y, p, surf, law):
+    """Creep and flange forces on wheelset ``i`` (0 front, 1 rear) of the bogie:
+    ``(Fy, Mz, power_left, power_right, flange)`` summed over both wheels; ``law`` as ``WS_LAW``."""
+    lat = y[2 * i]
+    fy, mz, power_left, power_right = _conical_wheelset(
+        lat, y[2 * i + 1], y[6 + 2 * i], y[7 + 2 * i], p[BG_SPEED], p[BG_HALF_GAUGE], p[BG_ROLLING_RADIUS],
+        p[BG_CONICITY], p[BG_F11], p[BG_F22], p[BG_F23], p[BG_F33], p[BG_FRICTION] * p[BG_WHEEL_LOAD], law, surf,
+        int(p[BG_LAW_OFFSET]), int(p[BG_LAW_POINTS]))
     flange = _dead_band(lat, p[BG_FLANGE_CLEARANCE], p[BG_FLANGE_STIFFNESS])
     return fy + flange, mz, power_left, power_right, flange
 
@@ -475,12 +518,89 @@ def bogie_outputs(table, y, p, surf, out):
     """Outputs per time: per wheelset (front 0-4, rear 5-9) ``power_left, power_right, flange, Fy, Mz``
     (``table``: on real profiles, ``flange`` the lateral component of the normal forces)."""
     for i in range(2):
-        fy, mz, power_left, power_right, flange = _bogie_contact(table, p[BG_LAW], i, y, p, surf)
-        out[5 * i + 0] = power_left
-        out[5 * i + 1] = power_right
-        out[5 * i + 2] = flange
-        out[5 * i + 3] = fy
-        out[5 * i + 4] = mz
+        _put_wheelset_outputs(out, i, _bogie_contact(table, p[BG_LAW], i, y, p, surf))
+
+
+@njit(cache=True, inline="always")
+def _put_wheelset_outputs(out, i, forces):
+    """Write wheelset ``i``'s ``(Fy, Mz, power_left, power_right, flange)`` into ``out[5 i:5 i + 5]``
+    as ``power_left, power_right, flange, Fy, Mz``."""
+    fy, mz, power_left, power_right, flange = forces
+    out[5 * i + 0] = power_left
+    out[5 * i + 1] = power_right
+    out[5 * i + 2] = flange
+    out[5 * i + 3] = fy
+    out[5 * i + 4] = mz
+
+
+# ---- the published Cooperrider bogie --------------------------------------------------------
+@njit(cache=True, inline="always")
+def _cooperrider_wheelset(i, y, p, surf):
+    """``(Fy, Mz, power_left, power_right, flange)`` of wheelset ``i`` (0 front, 1 rear) of the
+    seven-degree-of-freedom bogie: both wheels' creep forces (``_creep``, no spin, linear
+    coefficients ``f11``, ``f22``, saturated together at ``mu N``) and the dead-band flange spring."""
+    lat = y[2 * i]
+    fy, mz, power_left, power_right = _conical_wheelset(
+        lat, y[2 * i + 1], y[7 + 2 * i], y[8 + 2 * i], p[CP_SPEED], p[CP_HALF_GAUGE], p[CP_ROLLING_RADIUS],
+        p[CP_CONICITY], p[CP_F11], p[CP_F22], 0.0, 0.0, p[CP_FRICTION] * p[CP_WHEEL_LOAD], p[CP_LAW], surf,
+        int(p[CP_LAW_OFFSET]), int(p[CP_LAW_POINTS]))
+    flange = _dead_band(lat, p[CP_FLANGE_CLEARANCE], p[CP_FLANGE_STIFFNESS])
+    return fy + flange, mz, power_left, power_right, flange
+
+
+@njit(cache=True)
+def cooperrider_rhs(t, y, p, surf, dydt):
+    """The Cooperrider bogie of Kaas-Petersen (1986): state ``[y1, psi1, y2, psi2, y_f, psi_f,
+    phi_f]`` and their rates (front wheelset at ``x = +b``; frame roll ``phi_f`` about the
+    direction of travel, right-handed, so a frame point ``z`` above the centre of mass moves
+    ``-z phi_f`` laterally). Springs per side, the car body moving straight at ``speed``:
+
+    wheelset: ``m_w y_i'' = Fy_i + F_T(y_i) - 2 k1 d_i``, ``d_i = y_i - y_f - x_i psi_f - h1 phi_f``;
+    ``I_w psi_i'' = Mz_i - 2 k2 d1^2 (psi_i - psi_f)``;
+    frame: ``m_f y_f'' = 2 k1 (d_1 + d_2) - 2 k4 s - 2 D1 s'``, ``s = y_f - h2 phi_f``;
+    ``I_fz psi_f'' = sum_i (2 k1 x_i d_i + 2 k2 d1^2 (psi_i - psi_f))``;
+    ``I_fx phi_f'' = 2 k1 h1 (d_1 + d_2) + 2 h2 (k4 s + D1 s') - (4 k3 d1^2 + 2 k5 d2^2) phi_f
+    - 2 D2 d2^2 phi_f'``.
+    """
+    b = p[CP_HALF_WHEELBASE]
+    k1 = p[CP_PRIMARY_LATERAL_STIFFNESS]
+    kpsi = 2.0 * p[CP_PRIMARY_LONGITUDINAL_STIFFNESS] * p[CP_PRIMARY_SPRING_HALF_SPACING] ** 2
+    h1 = p[CP_PRIMARY_HEIGHT]
+    h2 = p[CP_SECONDARY_HEIGHT]
+    s = y[4] - h2 * y[6]
+    ds = y[11] - h2 * y[13]
+    secondary = p[CP_SECONDARY_LATERAL_STIFFNESS] * s + p[CP_SECONDARY_LATERAL_DAMPING] * ds
+    frame_force = -2.0 * secondary
+    frame_moment = 0.0
+    d1 = p[CP_PRIMARY_SPRING_HALF_SPACING]
+    d2 = p[CP_SECONDARY_SPRING_HALF_SPACING]
+    roll_moment = (2.0 * h2 * secondary
+                   - (4.0 * p[CP_PRIMARY_VERTICAL_STIFFNESS] * d1 * d1
+                      + 2.0 * p[CP_SECONDARY_VERTICAL_STIFFNESS] * d2 * d2) * y[6]
+                   - 2.0 * p[CP_SECONDARY_VERTICAL_DAMPING] * d2 * d2 * y[13])
+    for i in range(2):
+        x = b if i == 0 else -b
+        fy, mz, _, _, _ = _cooperrider_wheelset(i, y, p, surf)
+        spring = 2.0 * k1 * (y[2 * i] - y[4] - x * y[5] - h1 * y[6])
+        twist = kpsi * (y[2 * i + 1] - y[5])
+        dydt[7 + 2 * i] = (fy - spring) / p[CP_WHEELSET_MASS]
+        dydt[8 + 2 * i] = (mz - twist) / p[CP_WHEELSET_YAW_INERTIA]
+        frame_force += spring
+        frame_moment += x * spring + twist
+        roll_moment += h1 * spring
+    dydt[11] = frame_force / p[CP_FRAME_MASS]
+    dydt[12] = frame_moment / p[CP_FRAME_YAW_INERTIA]
+    dydt[13] = roll_moment / p[CP_FRAME_ROLL_INERTIA]
+    for j in range(7):
+        dydt[j] = y[7 + j]
+
+
+@njit(cache=True)
+def cooperrider_outputs(y, p, surf, out):
+    """Outputs per time, as ``bogie_outputs``: per wheelset (front 0-4, rear 5-9)
+    ``power_left, power_right, flange, Fy, Mz``."""
+    for i in range(2):
+        _put_wheelset_outputs(out, i, _cooperrider_wheelset(i, y, p, surf))
 
 
 # ---- disk wheel -----------------------------------------------------------------------------
@@ -715,6 +835,8 @@ def rhs_inline(kind, t, y, p, surf, dydt):
         bogie_rhs(t, y, p, surf, dydt, kind == KIND_TABLE_BOGIE)
     elif kind == KIND_TABLE_WHEELSET:
         table_wheelset_rhs(t, y, p, surf, dydt)
+    elif kind == KIND_COOPERRIDER:
+        cooperrider_rhs(t, y, p, surf, dydt)
     elif kind == KIND_LINEAR:
         linear_rhs(t, y, p, surf, dydt)
     elif kind == KIND_VAN_DER_POL:
@@ -733,12 +855,15 @@ def event(kind, t, y, p, surf):
 def switching(kind, t, y, p, surf):
     """Switching function of model ``kind``: its sign changes where the right-hand side has a kink
     that the integrators cut their steps at. Flange contact made or lost: ``|y - y_t| - clearance``
-    [m] for the wheelset, the product of the two wheelsets' gaps [m^2] for the conical bogie; 1
+    [m] for the wheelset, the product of the two wheelsets' gaps [m^2] for the conical bogies; 1
     where a model has none."""
     if kind == KIND_WHEELSET:
         return abs(y[0] - _track_alignment(t, p, surf)) - p[WS_FLANGE_CLEARANCE]
     if kind == KIND_BOGIE:
         c = p[BG_FLANGE_CLEARANCE]
+        return (abs(y[0]) - c) * (abs(y[2]) - c)
+    if kind == KIND_COOPERRIDER:
+        c = p[CP_FLANGE_CLEARANCE]
         return (abs(y[0]) - c) * (abs(y[2]) - c)
     return 1.0
 
@@ -756,4 +881,6 @@ def outputs(kind, ts, ys, p, surf, n_out):
             bogie_outputs(kind == KIND_TABLE_BOGIE, ys[i], p, surf, res[i])
         elif kind == KIND_TABLE_WHEELSET:
             table_wheelset_outputs(ts[i], ys[i], p, surf, res[i])
+        elif kind == KIND_COOPERRIDER:
+            cooperrider_outputs(ys[i], p, surf, res[i])
     return res

@@ -2,6 +2,7 @@
 
 - ``WheelsetModel`` (``railwear.dynamics.wheelset``), ``TableWheelsetModel``
   (``table_wheelset``), ``BogieModel`` (``bogie``), ``TableBogieModel`` (``table_bogie``),
+  ``CooperriderBogie`` (``cooperrider``, the published bogie with frame roll),
   ``DiskWheelModel`` (``disk_wheel``): frozen, validated dataclasses (SI units). Each knows its
   compiled kernel (``kind``), packs its parameters into the float64 array the kernels read
   (``params``), gives its surface array, initial state and, where it has one, its linear state
@@ -17,6 +18,7 @@ from dataclasses import MISSING, fields
 from railwear.contact.constants import contact_constants
 from railwear.dynamics._fields import model_fields  # noqa: F401  (re-exported for railwear.dynamics.models)
 from railwear.dynamics.bogie import BogieModel
+from railwear.dynamics.cooperrider import CooperriderBogie
 from railwear.dynamics.disk_wheel import DiskWheelModel
 from railwear.dynamics.linear import numerical_state_matrix
 from railwear.dynamics.table_bogie import TableBogieModel
@@ -26,6 +28,7 @@ from railwear.errors import ScenarioError
 
 __all__ = [
     "BogieModel",
+    "CooperriderBogie",
     "DiskWheelModel",
     "MODEL_KINDS",
     "TableBogieModel",
@@ -38,24 +41,21 @@ __all__ = [
 
 
 MODEL_KINDS = {"wheelset": WheelsetModel, "disk_wheel": DiskWheelModel, "bogie": BogieModel,
-               "table_wheelset": TableWheelsetModel, "table_bogie": TableBogieModel}
+               "table_wheelset": TableWheelsetModel, "table_bogie": TableBogieModel, "cooperrider": CooperriderBogie}
 
 
 def build_model(kind, section):
-    """A model from a scenario section: ``kind`` in ``MODEL_KINDS`` (or ``"cooperrider"``, the
-    published bogie with ``section`` overriding its fields) and a mapping of field values in SI
-    units. Unknown or missing fields raise ``ScenarioError`` naming the field."""
-    if kind not in MODEL_KINDS and kind != "cooperrider":
-        raise ScenarioError(f"model: unknown model kind {kind!r}; expected one of {sorted(MODEL_KINDS) + ['cooperrider']}")
-    cls = BogieModel if kind == "cooperrider" else MODEL_KINDS[kind]
+    """A model from a scenario section: ``kind`` in ``MODEL_KINDS`` (``"cooperrider"`` is the
+    published bogie, ``CooperriderBogie``, whose fields all have their published defaults but the
+    speed) and a mapping of field values in SI units. Unknown or missing fields raise
+    ``ScenarioError`` naming the field."""
+    if kind not in MODEL_KINDS:
+        raise ScenarioError(f"model: unknown model kind {kind!r}; expected one of {sorted(MODEL_KINDS)}")
+    cls = MODEL_KINDS[kind]
     known = {fld.name: fld for fld in fields(cls)}
     for name in section:
         if name not in known:
             raise ScenarioError(f"{name}: not a field of the {kind} model")
-    if kind == "cooperrider":
-        if "speed" not in section:
-            raise ScenarioError("speed: missing (required for the cooperrider model)")
-        return BogieModel.cooperrider(**dict(section))
     required = [n for n, fld in known.items() if fld.default is MISSING and fld.default_factory is MISSING]
     for name in required:
         if name not in section:

@@ -13,6 +13,7 @@ from railwear.dynamics import kernels as k
 from railwear.dynamics._fields import model_fields
 from railwear.dynamics.integration import Integrator
 from railwear.dynamics.bogie import BogieModel
+from railwear.dynamics.cooperrider import CooperriderBogie
 from railwear.dynamics.disk_wheel import DiskWheelModel
 from railwear.dynamics.table_bogie import TableBogieModel
 from railwear.dynamics.table_wheelset import TableWheelsetModel
@@ -87,7 +88,8 @@ def simulate(
     deviation grid) adds ``frictional_energy``: the frictional energy [J] each cell of the grid
     received over the run, spread uniformly over the patch as it passes (paper Figs 3 and 7).
     """
-    if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel, TableWheelsetModel, TableBogieModel)):
+    if not isinstance(model, (WheelsetModel, DiskWheelModel, BogieModel, TableWheelsetModel, TableBogieModel,
+                              CooperriderBogie)):
         raise ScenarioError(f"model: expected one of the railwear.dynamics models, got {type(model).__name__}")
     t_end, integrator, t_eval = _options(
         model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step, max_norm
@@ -138,7 +140,7 @@ def simulate(
     ev_t, ev_dir = np.concatenate(parts_ev_t), np.concatenate(parts_ev_dir)
     if isinstance(model, WheelsetModel):
         ds = _wheelset_dataset(model, ts, ys, p, surf)
-    elif isinstance(model, (BogieModel, TableBogieModel)):
+    elif isinstance(model, (BogieModel, TableBogieModel, CooperriderBogie)):
         ds = _bogie_dataset(model, ts, ys, p, surf)
     elif isinstance(model, TableWheelsetModel):
         ds = _table_wheelset_dataset(model, ts, ys, p, surf)
@@ -260,19 +262,23 @@ def _bogie_dataset(model, ts, ys, p, surf):
     out = k.outputs(model.kind, ts, ys, p, surf, k.BG_N_OUTPUTS)
     tw = ("time", "wheelset")
     both = lambda j: np.stack([out[:, j], out[:, 5 + j]], axis=1)  # noqa: E731
+    n = model.n_states // 2  # 6, or 7 with the frame's roll
     data = {
         "lateral_displacement": _var(tw, ys[:, [0, 2]], "m", "lateral displacement of the wheelset"),
         "yaw_angle": _var(tw, ys[:, [1, 3]], "rad", "yaw angle of the wheelset"),
-        "lateral_velocity": _var(tw, ys[:, [6, 8]], "m s-1", "lateral velocity of the wheelset"),
-        "yaw_rate": _var(tw, ys[:, [7, 9]], "rad s-1", "yaw rate of the wheelset"),
+        "lateral_velocity": _var(tw, ys[:, [n, n + 2]], "m s-1", "lateral velocity of the wheelset"),
+        "yaw_rate": _var(tw, ys[:, [n + 1, n + 3]], "rad s-1", "yaw rate of the wheelset"),
         "frame_lateral_displacement": _var("time", ys[:, 4], "m", "lateral displacement of the bogie frame"),
         "frame_yaw_angle": _var("time", ys[:, 5], "rad", "yaw angle of the bogie frame"),
-        "frame_lateral_velocity": _var("time", ys[:, 10], "m s-1", "lateral velocity of the bogie frame"),
-        "frame_yaw_rate": _var("time", ys[:, 11], "rad s-1", "yaw rate of the bogie frame"),
+        "frame_lateral_velocity": _var("time", ys[:, n + 4], "m s-1", "lateral velocity of the bogie frame"),
+        "frame_yaw_rate": _var("time", ys[:, n + 5], "rad s-1", "yaw rate of the bogie frame"),
         "distance": _var("time", model.speed * ts, "m", "distance travelled"),
         "frictional_power_left": _var(tw, both(0), "W", "frictional power in the left wheel's contact"),
         "frictional_power_right": _var(tw, both(1), "W", "frictional power in the right wheel's contact"),
     }
+    if n == 7:
+        data["frame_roll_angle"] = _var("time", ys[:, 6], "rad", "roll angle of the bogie frame")
+        data["frame_roll_rate"] = _var("time", ys[:, 13], "rad s-1", "roll rate of the bogie frame")
     if model.kind == k.KIND_TABLE_BOGIE:
         data["normal_force_lateral"] = _var(tw, both(2), "N", "lateral component of the normal forces on the wheelset")
     else:

@@ -88,10 +88,10 @@ def test_every_variable_has_cf_units_and_long_name(model):
 
 
 def test_build_model_from_a_section():
-    from railwear.dynamics import BogieModel, build_model
+    from railwear.dynamics import CooperriderBogie, build_model
 
     assert build_model("wheelset", WHEELSET) == WheelsetModel(**WHEELSET)
-    assert build_model("cooperrider", {"speed": 40.0, "conicity": 0.1}) == BogieModel.cooperrider(40.0, conicity=0.1)
+    assert build_model("cooperrider", {"speed": 40.0, "conicity": 0.1}) == CooperriderBogie(40.0, conicity=0.1)
     _raises_naming("masss", lambda: build_model("wheelset", dict(WHEELSET, masss=1.0)))
     _raises_naming("conicity", lambda: build_model("wheelset", {k: v for k, v in WHEELSET.items() if k != "conicity"}))
     _raises_naming("model", lambda: build_model("tram", {}))
