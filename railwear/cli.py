@@ -136,13 +136,14 @@ class _Progress:
 # The files railwear writes besides result.nc: how each is known, its figure's name, the function
 # of railwear.plots that draws it. The commands that write them and 'railwear plot' share it.
 _FILES = (
-    (lambda ds: "growth_rate" in ds and "order" in ds.dims, "stability", "stability"),  # stability
+    (lambda ds: "growth_rate" in ds and "order" in ds.dims and "u" not in ds, "stability", "stability"),  # stability
     (lambda ds: "base_scenario_hash" in ds.attrs and "regime" in ds, "sweep", "sweep"),  # sweep
     (lambda ds: "crossing_distance" in ds and "limit_m" in ds.attrs, "forecast", "forecast"),  # forecast
     (lambda ds: "critical_speed" in ds and "conicity" in ds.dims, "hunting", "hunting_map"),  # hunting-map
     (lambda ds: "amplitude" in ds and "hopf_speed" in ds.attrs, "bifurcation", "bifurcation"),  # simulate
     (lambda ds: "lateral_displacement" in ds, "hunting", "lateral_motion"),
     (lambda ds: "contact_angle" in ds and "frictional_power" in ds, "contact-path", "contact_path"),
+    (lambda ds: "receptance_magnitude" in ds, "track", "track_receptance"),  # track
 )
 
 
@@ -301,6 +302,30 @@ def stability(
     else:
         typer.echo(f"no order grows in {v.min():g}-{v.max():g} km/h ({label})")
     typer.echo(f"wrote {output / 'stability.nc'}")
+
+
+@app.command()
+def track(
+    scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name with body 'vehicle_track'")] = None,
+    frequencies: Annotated[str, typer.Option(help="frequencies in Hz, A:B:STEP or list; default 10-3000 Hz, log-spaced")] = "",
+    output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-out"),
+    sets: Sets = [],
+):
+    """Rail receptance of the scenario's [track] and the wheel's |N/u| on it: DIR/track.nc and
+    track.png, with the P2 and pinned-pinned frequencies marked."""
+    from railwear import analysis, results
+
+    f = _parse_range(frequencies, "--frequencies") if frequencies else None
+    _output(output)
+    try:
+        ds = analysis.track_receptance(_scenario(scenario, sets), f)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    results.write_netcdf(ds, output / "track.nc")
+    _draw(ds, output)
+    pinned = (f", pinned-pinned {float(ds.pinned_pinned_frequency):.0f} Hz" if "pinned_pinned_frequency" in ds else "")
+    typer.echo(f"P2 {float(ds.p2_frequency):.1f} Hz{pinned} ({ds.attrs['track']})")
+    typer.echo(f"wrote {output / 'track.nc'}")
 
 
 @app.command()

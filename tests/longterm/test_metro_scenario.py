@@ -150,3 +150,20 @@ def test_wheel_modes_from_the_vehicle_section():
     assert build.vehicle_case(load_scenario("metro")).wheel_modes == ()
     with pytest.raises(ScenarioError, match="one value per mode"):
         _metro(lambda d: d["vehicle"].update(wheel_mode_frequencies_hz=[580.0]))
+
+
+def test_track_command_writes_receptance_and_figure_and_plot_redraws_it(tmp_path):
+    from typer.testing import CliRunner
+
+    from railwear.cli import app
+
+    runner = CliRunner()
+    r = runner.invoke(app, ["track", "--frequencies", "20:2000:20", "-o", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    assert "P2 55.8 Hz, pinned-pinned 1067 Hz" in r.output
+    ds = railwear.results.read_netcdf(tmp_path / "track.nc")
+    assert ds.receptance_magnitude.attrs["units"] == "m N-1" and (tmp_path / "track.png").stat().st_size > 0
+    (tmp_path / "track.png").unlink()
+    assert runner.invoke(app, ["plot", str(tmp_path / "track.nc")]).exit_code == 0 and (tmp_path / "track.png").exists()
+    r = runner.invoke(app, ["track", "linear-dynamics", "-o", str(tmp_path)])
+    assert r.exit_code == 2 and "strategy.body" in r.output
