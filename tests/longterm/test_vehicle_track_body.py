@@ -103,3 +103,11 @@ def test_bad_input():
         body().__class__(METRO.wheel(SPEED), Archard(), METRO.band_width, LIFE, ring=ring_for(METRO.track))
     with pytest.raises(ScenarioError, match="^dt:"):
         WheelOnRing(METRO.wheel(SPEED), ring_for(METRO.track), 1e-3)
+
+
+def test_worked_example():
+    """docs/vehicle_track_time.md's example prints what it says (about 0.5 s)."""
+    from helpers import doc_blocks, run_doc_block
+
+    printed, expected = run_doc_block(doc_blocks("vehicle_track_time.md")[0], "vehicle_track_time.md")
+    assert printed == expected
