@@ -16,6 +16,10 @@ A loss factor becomes the viscous coefficient ``c = η k / ω_ref`` at ``referen
 (exact for a harmonic load at that frequency), the rail's per mode ``c_k = η M_k ω_k² / ω_ref``.
 Classical fixed-step Runge-Kutta 4, compiled with numba; ``rhs`` and ``rail_displacement`` are
 top-level compiled functions a body's own compiled loop can call.
+
+``RingTrack``: the same track closed into a ring of ``n`` bays in Bloch coordinates (each pad
+couples one rail mode to one sleeper coordinate), with the modes left out as residual
+flexibility; ``ring_*`` its compiled pieces (docs/vehicle_track_time.md).
 """
 
 from __future__ import annotations
