@@ -167,14 +167,41 @@ def fourier(scenario: Scenario):
     wheel of ``[vehicle]`` over ``[track]`` (bay-averaged), stopping at ``solver.peak_to_peak_limit_mm``."""
     from railwear.longterm.fourier import Fourier, FourierStrategy
 
-    speed, law, body_name = one_speed(scenario), wear_law(scenario), scenario.strategy.body
-    if body_name == "vehicle_track":
-        technique = vehicle_case(scenario).fourier(speed, law, scenario.track.bay_positions)
-    else:
-        technique = Fourier.disk_wheel(disk_wheel_model(scenario, speed), law, band_width(scenario))
+    model, band = linear_model(scenario, one_speed(scenario))
+    technique = Fourier.disk_wheel(model, wear_law(scenario), band)
+    body_name = scenario.strategy.body
     limit = scenario.solver.peak_to_peak_limit_mm
     return FourierStrategy(technique, life_distance(scenario), scenario.solver.n_save, body=body_name,
                            peak_to_peak_limit=None if limit is None else limit * MM)
+
+
+def linear_model(scenario: Scenario, speed):
+    """The linearisable wheel model of the body at ``speed`` (m/s) and its wear band (m): the disk
+    wheel, or the wheel of ``[vehicle]`` on ``[track]`` (with its wheelset modes)."""
+    if scenario.strategy.body != "vehicle_track":
+        return disk_wheel_model(scenario, speed), band_width(scenario)
+    from railwear.longterm.vehicle_track import VehicleTrackModel
+
+    case = vehicle_case(scenario)
+    return VehicleTrackModel(case.wheel(speed), case.track, scenario.track.bay_positions, case.wheel_modes), \
+        case.band_width
+
+
+@builds("multiplier")
+def multiplier(scenario: Scenario):
+    """The multiplier law at the one speed on the body's linear model (``[strategy] local``)."""
+    from railwear.longterm.fourier import Fourier
+    from railwear.longterm.multiplier import Multiplier
+
+    st, solver, law = scenario.strategy, scenario.solver, wear_law(scenario)
+    model, band = linear_model(scenario, one_speed(scenario))
+    given = solver.model_fields_set
+    options = {"grid_points": st.grid_points, "body": st.body,
+               "epsilon": solver.epsilon if "epsilon" in given else 0.0, "nu": solver.nu if "nu" in given else 0.0,
+               "options": {"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt}}
+    if st.local == "none":
+        return Multiplier.from_fourier(Fourier.disk_wheel(model, law, band), life_distance(scenario), **options)
+    return Multiplier.from_model(model, law, band, life_distance(scenario), **options)
 
 
 def wear_law(scenario: Scenario):
@@ -277,8 +304,7 @@ def wheelset_wear(scenario: Scenario):
     shifts = np.round(np.linspace(-ww.shift_max_mm, ww.shift_max_mm, 2 * n + 1) * MM, 12)
     wheel, rail = profile(scenario, "wheel"), profile(scenario, "rail")
     table = contact_table(wheel, rail, y=shifts, axle_load=2 * w.static_load_kN * KN, rolling_radius=w.radius_m,
-                          youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson,
-        wheel_modes=tuple(zip(v.wheel_mode_frequencies_hz, v.wheel_mode_masses_kg, v.wheel_mode_damping_ratios)))
+                          youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson)
     model = TableWheelsetModel(speed=float(speed), mass=ws.mass_kg, yaw_inertia=ws.yaw_inertia_kg_m2,
                                lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=ws.yaw_stiffness_N_m_rad,
                                table=table, friction_coefficient=c.friction_coefficient)
@@ -301,10 +327,28 @@ def wheelset_body(scenario: Scenario):
                     samples=getattr(scenario.strategy, "samples", 4), update_seconds=ww.update_interval_s)
 
 
+def vehicle_track_body(scenario: Scenario, speed=None):
+    """The wheel of ``[vehicle]`` on the time-domain track of ``[track]`` (a ring of
+    ``ring_sleepers`` bays) as a long-term body, like :func:`disk_wheel_body`."""
+    from railwear.longterm.vehicle_track_body import VehicleTrackBody, ring_for
+
+    st, service, case, t = scenario.strategy, service_speeds(scenario), vehicle_case(scenario), scenario.track
+    if case.wheel_modes:
+        raise ScenarioError("vehicle.wheel_mode_frequencies_hz: the time-domain vehicle-track body has no flexible "
+                            "wheelset modes; use the fourier or multiplier strategy")
+    settings = {k: getattr(st, k) for k in DISK_WHEEL_SETTINGS if k in type(st).model_fields}
+    return VehicleTrackBody(case.wheel(service.mean if speed is None else speed), wear_law(scenario), case.band_width,
+                            life_distance(scenario), service, **settings,
+                            ring=ring_for(case.track, t.ring_sleepers, t.ring_max_frequency_hz))
+
+
 def body(scenario: Scenario, speed=None):
-    """The body of ``[strategy] body``: the disk wheel (at ``speed``, m/s, default the service
-    mean) or the wheelset (``run(None, ...)`` starts from the new profile)."""
-    return wheelset_body(scenario) if scenario.strategy.body == "wheelset" else disk_wheel_body(scenario, speed)
+    """The body of ``[strategy] body``: the disk wheel or the wheel on the track (at ``speed``,
+    m/s, default the service mean) or the wheelset (``run(None, ...)`` starts from the new profile)."""
+    kind = scenario.strategy.body
+    if kind == "wheelset":
+        return wheelset_body(scenario)
+    return vehicle_track_body(scenario, speed) if kind == "vehicle_track" else disk_wheel_body(scenario, speed)
 
 
 def fitted_h(scenario: Scenario, speeds=None, scales=(0.5, 1.0, 1.5, 2.0), degree=3, bins=16):

@@ -285,7 +285,7 @@ class StrategySection(_Section):
     kind: str
     body: Literal["disk_wheel", "wheelset", "vehicle_track"] = "disk_wheel"
     bodies: ClassVar[tuple] = ("disk_wheel",)
-    disk_wheel_only: ClassVar[tuple] = ()
+    disk_wheel_only: ClassVar[tuple] = ()  # settings of the wheels rolling over the angle, not of the wheelset
 
     @model_validator(mode="after")
     def _body(self):
@@ -293,8 +293,8 @@ class StrategySection(_Section):
             raise ValueError(f"body {self.body!r} takes kind {' or '.join(repr(k) for k in _kinds_of(self.body))}, "
                              f"not {self.kind!r}")
         for name in self.disk_wheel_only:
-            if self.body != "disk_wheel" and name in self.model_fields_set:
-                raise ValueError(f"{name}: applies to body 'disk_wheel' only, not {self.body!r}")
+            if self.body == "wheelset" and name in self.model_fields_set:
+                raise ValueError(f"{name}: applies to bodies 'disk_wheel' and 'vehicle_track' only, not {self.body!r}")
         return self
 
 
@@ -332,6 +332,20 @@ class FourierSection(StrategySection):
 
 
 @strategy_section
+class MultiplierSection(StrategySection):
+    """The multiplier law (one speed): the Fourier technique's rate per order exact in ETDRK4's
+    linear part, plus ``local`` = ``"load"`` (the contact's load nonlinearity: creep stiffness,
+    saturation, contact loss) or ``"none"``; on the disk wheel of ``[disk_wheel]`` or the wheel on
+    ``[track]``. ``grid_points``: the surface grid of a direct run to compare with (filters the
+    rates as that grid does). ``[solver] epsilon`` and ``nu`` default to 0 here."""
+
+    kind: Literal["multiplier"] = "multiplier"
+    bodies: ClassVar[tuple] = ("disk_wheel", "vehicle_track")
+    local: Literal["load", "none"] = "load"
+    grid_points: Annotated[int, Field(ge=2, le=65536)] | None = None
+
+
+@strategy_section
 class StepwiseSection(StrategySection):
     """Stepwise frozen geometry: ``step_limit_um`` the largest change of ``u``
     (``step_limit_on = "u"``) or of its shape ``u - mean(u)`` (``"shape"``) per long-term step,
@@ -340,7 +354,7 @@ class StepwiseSection(StrategySection):
     on the disk wheel each of ``revolutions`` after ``transient_revolutions``."""
 
     kind: Literal["stepwise"] = "stepwise"
-    bodies: ClassVar[tuple] = ("disk_wheel", "wheelset")
+    bodies: ClassVar[tuple] = ("disk_wheel", "wheelset", "vehicle_track")
     disk_wheel_only: ClassVar[tuple] = ("revolutions", "transient_revolutions")
     step_limit_um: Annotated[float, Field(gt=0, le=1e6)] = 10.0
     step_limit_on: Literal["u", "shape"] = "u"
@@ -357,7 +371,7 @@ class DirectSection(StrategySection):
     ``transient_revolutions`` without wear."""
 
     kind: Literal["direct"] = "direct"
-    bodies: ClassVar[tuple] = ("disk_wheel", "wheelset")
+    bodies: ClassVar[tuple] = ("disk_wheel", "wheelset", "vehicle_track")
     disk_wheel_only: ClassVar[tuple] = ("updates_per_revolution", "transient_revolutions")
     acceleration_factor: Annotated[float, Field(ge=1, le=1e9, allow_inf_nan=False)] = 100.0
     updates_per_revolution: Annotated[int, Field(ge=1, le=1000)] = 1
@@ -412,7 +426,9 @@ class TrackSection(_Section):
     spreads them evenly over the spacing), for body ``"vehicle_track"``; ``base = "rigid"`` puts the
     pads on a rigid base (slab track; sleeper and ballast fields then refused). Springs carry a viscous coefficient and a loss factor
     together. ``bay_positions``: the wheel's offsets past a sleeper the Fourier technique averages
-    over. Defaults: ballasted track of Zhai, Wang & Lin, JSV 270 (2004) 673, with a 60E1 rail."""
+    over; ``ring_sleepers`` and ``ring_max_frequency_hz``: the time-domain track of the stepwise and
+    direct strategies (a ring of that many bays, rail modes to that frequency, the rest as residual
+    flexibility; 1 % of the receptance to about 250 Hz at 3 kHz, see docs/vehicle_track_time.md). Defaults: ballasted track of Zhai, Wang & Lin, JSV 270 (2004) 673, with a 60E1 rail."""
 
     rail: Literal["60E1", "54E1", "UIC60", "UIC54"] = "60E1"
     beam: Literal["euler", "timoshenko"] = "timoshenko"
@@ -428,6 +444,8 @@ class TrackSection(_Section):
     ballast_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 58.8
     ballast_loss_factor: Annotated[float, Field(ge=0, le=2)] = 0.0
     bay_positions: Annotated[int, Field(ge=1, le=256)] = 8
+    ring_sleepers: Annotated[int, Field(ge=8, le=1024)] = 32
+    ring_max_frequency_hz: Annotated[float, Field(ge=200, le=20000)] = 3000.0
 
     @model_validator(mode="after")
     def _base(self):
@@ -573,7 +591,8 @@ class Scenario(_Section):
     def _only_for(self):
         """(section, fields or None for all, whether they apply, to what)."""
         kind, body = self.strategy.kind, self.strategy.body
-        return (("solver", ("epsilon", "nu", "dealias", "dt"), kind == "phenomenological", "the phenomenological strategy"),
+        equation = kind in ("phenomenological", "multiplier")
+        return (("solver", ("epsilon", "nu", "dealias", "dt"), equation, "the phenomenological and multiplier strategies"),
                 ("wear_rate", None, kind == "phenomenological", "the phenomenological strategy"),
                 ("solver", ("peak_to_peak_limit_mm",), kind == "fourier", "the fourier strategy"),
                 ("disk_wheel", None, body == "disk_wheel", "body 'disk_wheel'"),
@@ -585,7 +604,7 @@ class Scenario(_Section):
         """The scenario as plain data (``model_dump`` options ``dump``; default JSON types without
         ``None``) without the fields that do not apply to its strategy and body."""
         data = self.model_dump(**{"mode": "json", "exclude_none": True, **dump})
-        if self.strategy.body != "disk_wheel":
+        if self.strategy.body == "wheelset":
             for name in self.strategy.disk_wheel_only:
                 data["strategy"].pop(name)
         for section, names, applies, _ in self._only_for():

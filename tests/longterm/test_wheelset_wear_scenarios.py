@@ -101,7 +101,7 @@ def test_a_killed_cli_run_resumes_to_the_same_file(tmp_path, monkeypatch, direct
     ((("step_limit_um = 1.0", "step_limit_um = 0.0"),), "strategy.step_limit_um"),
     ((DIRECT[0], ("acceleration_factor = 5000.0", "acceleration_factor = 0.5")), "strategy.acceleration_factor"),
     ((("samples = 2", "samples = 2\nacceleration_factor = 10.0"),), "acceleration_factor: does not apply to kind 'stepwise'"),
-    ((("samples = 2", "samples = 2\nrevolutions = 3"),), "revolutions: applies to body 'disk_wheel' only"),
+    ((("samples = 2", "samples = 2\nrevolutions = 3"),), "revolutions: applies to bodies 'disk_wheel' and 'vehicle_track' only"),
     ((("[solver]", "[disk_wheel]\nrail_mass_kg = 100.0\n\n[solver]"),), "disk_wheel.rail_mass_kg: applies to body 'disk_wheel' only"),
     ((('body = "wheelset"', 'body = "bogie"'),), "strategy.body"),
     ((('kind = "stepwise"', 'kind = "fourier"'),), "'strategy'"),
