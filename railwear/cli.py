@@ -89,6 +89,19 @@ def _option(value, name, low=None, high=None, low_open=False):
     return value
 
 
+Format = Annotated[str, typer.Option("--format", help="figure format: png, or pdf or svg (written beside the PNG)")]
+Dpi = Annotated[int, typer.Option(help="dots per inch of the figures (30 to 1200)")]
+
+
+def _figure_options(fmt, dpi):
+    """Refuse a figure format or dpi that plots.save does not write."""
+    from railwear.plots import FORMATS
+
+    if fmt not in FORMATS:
+        _fail(f"--format must be one of {', '.join(FORMATS)}, got {fmt!r}", 2)
+    _option(dpi, "--dpi", 30, 1200)
+
+
 class _Warnings:
     """Warnings of a run as one line each on standard error, after it."""
 
@@ -147,7 +160,7 @@ _FILES = (
 )
 
 
-def _draw(ds, directory):
+def _draw(ds, directory, fmt="png", dpi=120):
     """Save the figure of a file railwear wrote (not result.nc) in ``directory``; returns the
     paths (none for a sweep of which no point ran, or for a file of no known kind)."""
     from railwear import plots
@@ -156,11 +169,11 @@ def _draw(ds, directory):
         if known(ds):
             if name == "sweep" and not bool((ds.error == "").any()):
                 return []  # a figure of no point at all would be empty
-            return [plots.save(getattr(plots, make)(ds), Path(directory) / f"{name}.png")]
+            return [plots.save(getattr(plots, make)(ds), Path(directory) / f"{name}.png", fmt, dpi)]
     return []
 
 
-def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None, sets=()):
+def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None, sets=(), fmt="png", dpi=120):
     from railwear import api, plots, results
 
     checkpoint = _output(output) / "checkpoint.npz"
@@ -184,7 +197,7 @@ def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None
     checkpoint.unlink(missing_ok=True)
     summary = results.write_summary(ds, output)
     if figures:
-        plots.write_figures(ds, output)
+        plots.write_figures(ds, output, fmt, dpi)
     typer.echo(results.summary_text(summary), nl=False)
     typer.echo(f"wrote {output / 'result.nc'}")
 
@@ -213,10 +226,13 @@ def run(
     figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
     checkpoint_every: CheckpointEvery = 30.0,
     sets: Sets = [],
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """Run a scenario; write DIR/result.nc, summary.txt, summary.json and figures."""
     _option(checkpoint_every, "--checkpoint-every", 0, 1e9)
-    _run_and_write(scenario, output, figures, checkpoint_every, sets=sets)
+    _figure_options(fmt, dpi)
+    _run_and_write(scenario, output, figures, checkpoint_every, sets=sets, fmt=fmt, dpi=dpi)
 
 
 @app.command()
@@ -224,13 +240,16 @@ def resume(
     directory: Annotated[Path, typer.Argument(help="output directory of a run that was stopped")],
     figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
     checkpoint_every: CheckpointEvery = 30.0,
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """Continue a stopped run from DIR/checkpoint.npz to the same result as an uninterrupted run."""
     _option(checkpoint_every, "--checkpoint-every", 0, 1e9)
+    _figure_options(fmt, dpi)
     path = _output(directory) / "checkpoint.npz"
     if not path.is_file():
         _fail(f"no checkpoint in {directory} (expected {path.name})", 2)
-    _run_and_write(None, directory, figures, checkpoint_every, resume_path=path)
+    _run_and_write(None, directory, figures, checkpoint_every, resume_path=path, fmt=fmt, dpi=dpi)
 
 
 @app.command()
@@ -238,10 +257,13 @@ def plot(
     result: Annotated[Path, typer.Argument(help="a file railwear wrote: result.nc, stability.nc, sweep.nc, "
                                                 "forecast.nc, hunting.nc or dynamics.nc")],
     output: Annotated[Optional[Path], typer.Option("-o", "--output", help="directory (default: beside RESULT)")] = None,
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """Draw the figures again from a file railwear wrote."""
     from railwear import plots, results
 
+    _figure_options(fmt, dpi)
     if not result.is_file():
         _fail(f"result file {result} does not exist", 2)
     directory = _output(output or result.parent)
@@ -250,7 +272,7 @@ def plot(
     except (OSError, ValueError) as e:
         _fail(f"{result} is not a railwear result: {e}", 2)
     if any(known(ds) for known, _, _ in _FILES):
-        paths = _draw(ds, directory)
+        paths = _draw(ds, directory, fmt, dpi)
         if not paths:
             _fail(f"{result}: no point of the sweep ran (see its error variable); nothing to draw", 2)
     else:
@@ -260,7 +282,7 @@ def plot(
             check_result(ds)
         except ValueError as e:
             _fail(f"{result} is not a railwear result ({e})", 2)
-        paths = plots.write_figures(ds, directory)
+        paths = plots.write_figures(ds, directory, fmt, dpi)
     for path in paths:
         typer.echo(f"wrote {path}")
 
@@ -273,6 +295,8 @@ def stability(
     amplitude_um: Annotated[Optional[float], typer.Option(help="crest amplitude (µm) for the evolution equation; default the scenario's initial rms, 0 for the round wheel")] = None,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-out"),
     sets: Sets = [],
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """Growth rate over speed x polygon order: DIR/stability.nc and stability.png.
 
@@ -287,6 +311,7 @@ def stability(
     if v.min() <= 0 or n.min() < 1:
         _fail("--speeds must be > 0 and --orders >= 1", 2)
     _option(amplitude_um, "--amplitude-um", 0, 1e4)
+    _figure_options(fmt, dpi)
     _output(output)
     try:
         ds = analysis.stability(_scenario(scenario, sets), v, n, None if amplitude_um is None else amplitude_um * UM)
@@ -294,7 +319,7 @@ def stability(
         _fail(str(e), 2)
     label = ds.attrs["source"]
     results.write_netcdf(ds, output / "stability.nc")
-    _draw(ds, output)
+    _draw(ds, output, fmt, dpi)
     unstable = ds.growth_rate.max("order") > 0
     if bool(unstable.any()):
         first = m_s_to_kmh(float(ds.speed.values[unstable.values.argmax()]))
@@ -310,19 +335,22 @@ def track(
     frequencies: Annotated[str, typer.Option(help="frequencies in Hz, A:B:STEP or list; default 10-3000 Hz, log-spaced")] = "",
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-out"),
     sets: Sets = [],
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """Rail receptance of the scenario's [track] and the wheel's |N/u| on it: DIR/track.nc and
     track.png, with the P2 and pinned-pinned frequencies marked."""
     from railwear import analysis, results
 
     f = _parse_range(frequencies, "--frequencies") if frequencies else None
+    _figure_options(fmt, dpi)
     _output(output)
     try:
         ds = analysis.track_receptance(_scenario(scenario, sets), f)
     except ScenarioError as e:
         _fail(str(e), 2)
     results.write_netcdf(ds, output / "track.nc")
-    _draw(ds, output)
+    _draw(ds, output, fmt, dpi)
     pinned = (f", pinned-pinned {float(ds.pinned_pinned_frequency):.0f} Hz" if "pinned_pinned_frequency" in ds else "")
     typer.echo(f"P2 {float(ds.p2_frequency):.1f} Hz{pinned} ({ds.attrs['track']})")
     typer.echo(f"wrote {output / 'track.nc'}")
@@ -340,10 +368,13 @@ def sweep(
     scheduler_file: Annotated[Optional[Path], typer.Option(help="Dask scheduler file")] = None,
     batch: Annotated[bool, typer.Option(help="run a grid over the speed alone as one batched solve")] = True,
     sets: Sets = [],
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """Run a scenario over a grid or sample of fields; DIR/sweep.nc, DIR/points/, sweep.png."""
     from railwear import api, sweep as sweeps
 
+    _figure_options(fmt, dpi)
     if not vary:
         _fail("--vary: give at least one NAME=A:B:STEP", 2)
     try:
@@ -372,7 +403,7 @@ def sweep(
     except ScenarioError as e:
         _fail(str(e), 2)
     failed = int((ds.error != "").sum())
-    _draw(ds, output)
+    _draw(ds, output, fmt, dpi)
     _print_sweep_table(ds)
     typer.echo(f"wrote {output / 'sweep.nc'}" + (f"; {failed} point(s) failed, see the error variable" if failed else ""))
 
@@ -425,6 +456,8 @@ def forecast(
     deviation_unit: Annotated[Optional[str], typer.Option(help="um, mm or m, for a column named just 'deviation'")] = None,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-forecast"),
     sets: Sets = [],
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """When does this measured wheel pass its out-of-roundness limit? Median and 90 % band."""
     from railwear import forecast as forecasts
@@ -432,6 +465,7 @@ def forecast(
 
     limit_m = _parse_length(limit, "--limit")
     _option(horizon_km, "--horizon-km", 0, 1e9, low_open=True)
+    _figure_options(fmt, dpi)
     try:
         _output(output)
         with _Warnings(), _Progress("railwear forecast") as progress:
@@ -442,7 +476,7 @@ def forecast(
     except NumericalInstabilityError as e:
         _fail(str(e), 1)
     results.write_netcdf(ds, output / "forecast.nc")
-    _draw(ds, output)
+    _draw(ds, output, fmt, dpi)
     text = forecasts.report(ds)
     results.write_text(text, output / "forecast.txt")
     typer.echo(text, nl=False)
@@ -455,6 +489,8 @@ def hunting_map(
     conicity: Annotated[str, typer.Option(help="conicities, A:B:STEP or list")] = "0.02:0.4:0.02",
     yaw_stiffness: Annotated[str, typer.Option(help="yaw stiffnesses in N m/rad, A:B:STEP or list")] = "1e5:2e7:5e5",
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-out"),
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """Hunting critical speed of the wheelset over conicity x yaw stiffness: DIR/hunting.nc, hunting.png."""
     import numpy as np
@@ -464,13 +500,14 @@ def hunting_map(
 
     lam = _parse_range(conicity, "--conicity")
     kpsi = _parse_range(yaw_stiffness, "--yaw-stiffness")
+    _figure_options(fmt, dpi)
     _output(output)
     try:
         ds = sweeps.hunting_map(api.load_scenario(scenario), lam, kpsi)
     except ScenarioError as e:
         _fail(str(e), 2)
     results.write_netcdf(ds, output / "hunting.nc")
-    _draw(ds, output)
+    _draw(ds, output, fmt, dpi)
     v = ds.critical_speed.values
     low = np.unravel_index(np.argmin(v), v.shape)
     typer.echo(f"lowest critical speed {v[low]:.0f} km/h at conicity {lam[low[0]]:g}, "
@@ -482,12 +519,15 @@ def hunting_map(
 def simulate(
     scenario: Annotated[str, typer.Argument(help="dynamics scenario file or built-in name (railwear scenarios)")],
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-dynamics"),
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """Run a short-time dynamics scenario: DIR/dynamics.nc and its figure (paper Figs 1-3, bifurcation)."""
     from railwear import api, results
     from railwear.scenario import dynamics
     from railwear.units import m_s_to_kmh
 
+    _figure_options(fmt, dpi)
     _output(output)
     try:
         sc = dynamics.load_dynamics_scenario(scenario)
@@ -498,7 +538,7 @@ def simulate(
     except NumericalInstabilityError as e:
         _fail(str(e), 1)
     results.write_netcdf(ds, output / "dynamics.nc")
-    (figure,) = _draw(ds, output)
+    (figure,) = _draw(ds, output, fmt, dpi)
     for key in ("linear_critical_speed_kmh",):
         if key in ds.attrs:
             typer.echo(f"linear critical speed {ds.attrs[key]:.1f} km/h")
@@ -513,10 +553,13 @@ def figure(
     name: Annotated[str, typer.Argument(help="wear-surface (paper Fig. 4), teeth (Fig. 7) or fitted-h (Fig. 8)")],
     scenario: Annotated[Optional[str], typer.Argument(help="a disk-wheel scenario (default: the built-in 'stepwise')")] = None,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-figures"),
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """One of the paper's frozen-geometry figures from a disk-wheel scenario ([disk_wheel], [initial])."""
     from railwear import analysis, plots
 
+    _figure_options(fmt, dpi)
     _output(output)
     try:
         fig = analysis.figure(name, scenario).figure
@@ -524,8 +567,7 @@ def figure(
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
         _fail(str(e), 1)
-    path = output / f"{name}.png"
-    plots.save(fig, path)
+    path = plots.save(fig, output / f"{name}.png", fmt, dpi)
     typer.echo(f"wrote {path}")
 
 
@@ -534,6 +576,8 @@ def fit(
     scenario: Annotated[Optional[str], typer.Argument(help="a disk-wheel scenario (default: the built-in 'stepwise')")] = None,
     speeds: Annotated[Optional[str], typer.Option(help="speeds in km/h, A:B:STEP or list (default: the [service] peaks)")] = None,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-fit"),
+    fmt: Format = "png",
+    dpi: Dpi = 120,
 ):
     """Strategy 4: fit h(u_xx, v) to frozen-geometry statistics (paper Fig. 8) and write it as a
     scenario with the table form: DIR/fitted-h.toml (run it with 'railwear run') and fitted-h.png."""
@@ -542,6 +586,7 @@ def fit(
     from railwear.units import m_s_to_kmh
 
     v = None if speeds is None else _parse_range(speeds, "--speeds")
+    _figure_options(fmt, dpi)
     _output(output)
     try:
         stats, fitted, out = analysis.fit(scenario, v)
@@ -550,10 +595,10 @@ def fit(
     except NumericalInstabilityError as e:
         _fail(str(e), 1)
     results.write_text(to_toml(out), output / "fitted-h.toml")
-    plots.save(plots.fitted_relation(stats, fitted), output / "fitted-h.png")
+    figure = plots.save(plots.fitted_relation(stats, fitted), output / "fitted-h.png", fmt, dpi)
     for speed, chi2 in zip(stats.speed.values, fitted.chi2):
         typer.echo(f"{m_s_to_kmh(speed):g} km/h: reduced chi2 {chi2:.2f} on the curvature bins")
-    typer.echo(f"wrote {output / 'fitted-h.toml'} and {output / 'fitted-h.png'}")
+    typer.echo(f"wrote {output / 'fitted-h.toml'} and {figure}")
 
 
 @app.command()

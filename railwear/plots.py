@@ -295,15 +295,32 @@ FIGURES = {"profiles": profiles, "evolution": evolution, "spectrum": spectrum, "
 BODY_FIGURES = {"wheelset": {"worn-profile": worn_profile, "angular-pattern": angular_pattern}}
 
 
-def save(fig, path):
-    """Save a figure as PNG atomically."""
-    return _atomic(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
+FORMATS = ("png", "pdf", "svg")  # what save writes; the PNG always, a vector format on request
+DPI = 120  # dots per inch of the PNG (and of the raster parts of a PDF or SVG)
 
 
-def write_figures(ds, directory):
-    """Every figure of a result as ``DIRECTORY/NAME.png``; returns the paths."""
+def save(fig, path, format="png", dpi=DPI):
+    """Save a figure atomically as ``PATH`` with the suffix ``.png``, and also as ``.pdf`` or
+    ``.svg`` when ``format`` asks for it; ``dpi`` in dots per inch (30 to 1200). Returns the path
+    of the requested format."""
+    if format not in FORMATS:
+        raise ValueError(f"format: expected one of {', '.join(FORMATS)}, got {format!r}")
+    if not 30 <= dpi <= 1200:
+        raise ValueError(f"dpi: expected 30 to 1200 dots per inch, got {dpi!r}")
+    path = Path(path)
+    written = path.with_suffix(".png")
+    _atomic(written, lambda tmp: fig.savefig(tmp, dpi=dpi, format="png"))
+    if format != "png":
+        written = path.with_suffix(f".{format}")
+        _atomic(written, lambda tmp: fig.savefig(tmp, dpi=dpi, format=format))
+    return written
+
+
+def write_figures(ds, directory, format="png", dpi=DPI):
+    """Every figure of a result as ``DIRECTORY/NAME.png`` (and ``.pdf`` or ``.svg`` with
+    ``format``); returns the paths of the requested format."""
     figures = BODY_FIGURES.get(ds.attrs.get("body"), FIGURES)
-    return [save(make(ds), Path(directory) / f"{name}.png") for name, make in figures.items()]
+    return [save(make(ds), Path(directory) / f"{name}.png", format, dpi) for name, make in figures.items()]
 
 
 REGIME_COLOURS = {"stable": "#4daf4a", "smoothing": "#377eb8", "onset": "#ff7f00",
