@@ -151,7 +151,7 @@ class _Progress:
 _FILES = (
     (lambda ds: "growth_rate" in ds and "order" in ds.dims and "u" not in ds, "stability", "stability"),  # stability
     (lambda ds: "base_scenario_hash" in ds.attrs and "regime" in ds, "sweep", "sweep"),  # sweep
-    (lambda ds: "crossing_distance" in ds and "limit_m" in ds.attrs, "forecast", "forecast"),  # forecast
+    (lambda ds: "crossing_distance" in ds and "horizon_km" in ds.attrs, "forecast", "forecast"),  # forecast
     (lambda ds: "critical_speed" in ds and "conicity" in ds.dims, "hunting", "hunting_map"),  # hunting-map
     (lambda ds: "amplitude" in ds and "hopf_speed" in ds.attrs, "bifurcation", "bifurcation"),  # simulate
     (lambda ds: "lateral_displacement" in ds, "hunting", "lateral_motion"),
@@ -174,13 +174,13 @@ def _draw(ds, directory, fmt="png", dpi=120):
 
 
 def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None, sets=(), fmt="png", dpi=120):
-    from railwear import api, plots, results
+    from railwear import api, plots, report, results
 
     checkpoint = _output(output) / "checkpoint.npz"
     try:
         sc = None if scenario is None and resume_path is not None else api.load_scenario(scenario, sets)
         label = f"railwear {sc.name if sc else 'resume'}"
-        with _Warnings(), _Progress(label) as progress:
+        with _Warnings() as warned, _Progress(label) as progress:
             if resume_path is None and checkpoint.exists():  # an earlier run's: only the newest resumes
                 checkpoint.unlink()
             ds = api.run(sc, progress=progress, checkpoint_path=checkpoint,
@@ -196,8 +196,8 @@ def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None
     results.write_netcdf(ds, output / "result.nc")
     checkpoint.unlink(missing_ok=True)
     summary = results.write_summary(ds, output)
-    if figures:
-        plots.write_figures(ds, output, fmt, dpi)
+    paths = plots.write_figures(ds, output, fmt, dpi) if figures else []
+    report.write_report(ds, output / report.NAME, paths, warned.caught, _compile_notice["printed"])
     typer.echo(results.summary_text(summary), nl=False)
     typer.echo(f"wrote {output / 'result.nc'}")
 
@@ -282,7 +282,10 @@ def plot(
             check_result(ds)
         except ValueError as e:
             _fail(f"{result} is not a railwear result ({e})", 2)
+        from railwear import report
+
         paths = plots.write_figures(ds, directory, fmt, dpi)
+        paths.append(report.write_report(ds, directory / report.NAME, paths, warnings_known=False))
     for path in paths:
         typer.echo(f"wrote {path}")
 
@@ -426,34 +429,20 @@ def _print_sweep_table(ds):
     Console(width=120).print(table)
 
 
-def _parse_length(text, field):
-    """``0.3mm``, ``300um`` or ``3e-4m`` in metres."""
-    from railwear.units import MM, UM
-
-    from railwear.measured import BLANK, NUMBER
-
-    units = {"mm": MM, "um": UM, "µm": UM, "m": 1.0}
-    for suffix in ("mm", "um", "µm", "m"):
-        number = text.strip(BLANK).removesuffix(suffix)
-        if number != text.strip(BLANK):
-            if not NUMBER.fullmatch(number.strip(BLANK)):
-                break
-            value = float(number) * units[suffix]
-            if 0 < value <= 1.0:
-                return value
-    _fail(f"{field}: expected a positive length of at most 1 m with a unit (0.3mm, 300um, 3e-4m), got {text!r}", 2)
-
-
 @app.command()
 def forecast(
     measured: Annotated[Path, typer.Argument(help="CSV of angle and radius deviation round the wheel")],
     scenario: Annotated[Optional[str], typer.Option(help="scenario file or built-in name: physics and [service] scatter")] = None,
-    limit: Annotated[str, typer.Option(help="peak-to-peak out-of-roundness limit with its unit, e.g. 0.3mm")] = "0.3mm",
+    limit: Annotated[str, typer.Option(help="out-of-roundness limit: peak to peak with its unit (0.3mm), one level for "
+                                            "every order (20dB, re 1 um), iso3095 (band levels), or a CSV table: "
+                                            "order,level_db or wavelength_mm,level_db")] = "0.3mm",
     samples: Annotated[Optional[int], typer.Option(help="Monte Carlo samples (default: the scenario's service.samples)")] = None,
     seed: Annotated[Optional[int], typer.Option(help="seed (default: the scenario's service.seed)")] = None,
     horizon_km: Annotated[Optional[float], typer.Option(help="distance to look ahead (default: the scenario's life times solver.t_end)")] = None,
     angle_unit: Annotated[Optional[str], typer.Option(help="deg or rad, for a column named just 'angle'")] = None,
     deviation_unit: Annotated[Optional[str], typer.Option(help="um, mm or m, for a column named just 'deviation'")] = None,
+    nominal_diameter: Annotated[Optional[str], typer.Option(help="nominal wheel diameter with its unit (840mm), for a "
+                                                                 "file of absolute radius_* or diameter_* columns")] = None,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-forecast"),
     sets: Sets = [],
     fmt: Format = "png",
@@ -463,14 +452,15 @@ def forecast(
     from railwear import forecast as forecasts
     from railwear import results
 
-    limit_m = _parse_length(limit, "--limit")
     _option(horizon_km, "--horizon-km", 0, 1e9, low_open=True)
     _figure_options(fmt, dpi)
     try:
+        limits = forecasts.parse_limit(limit, "--limit")
+        nominal = None if nominal_diameter is None else forecasts.parse_length(nominal_diameter, "--nominal-diameter", 4.0)
         _output(output)
         with _Warnings(), _Progress("railwear forecast") as progress:
-            ds = forecasts.forecast_file(measured, _scenario(scenario, sets), limit_m, samples, seed, horizon_km,
-                                         angle_unit, deviation_unit, progress=progress)
+            ds = forecasts.forecast_file(measured, _scenario(scenario, sets), limits, samples, seed, horizon_km,
+                                         angle_unit, deviation_unit, progress=progress, nominal_diameter=nominal)
     except ScenarioError as e:
         _fail(str(e), 2)
     except NumericalInstabilityError as e:

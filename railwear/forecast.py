@@ -2,25 +2,193 @@
 
 The measured radius deviation is evolved under service conditions drawn from the scenario's
 ``[service]`` section (speed peaks with weights and scatter, static-load scatter, a friction
-range), one batch row per Monte Carlo sample. The out-of-roundness is the peak-to-peak radius
-deviation round the wheel; the forecast is the distance run until it first reaches the limit,
-reported as a median with a 90 % band over the samples.
+range), one batch row per Monte Carlo sample. The limit (:class:`Limit`) is a peak-to-peak
+radius deviation, a roughness level per polygon order (dB re 1 µm) or a one-third-octave band
+spectrum (EN 15610, :mod:`railwear.geometry.bands`); the forecast is the distance run until the
+wheel first reaches it, reported as a median with a 90 % band over the samples, with the
+measured wheel's own state (peak to peak, dominant order, band levels) beside it.
 """
+
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
 from pydantic import ValidationError
 
-from railwear.errors import OptionError
-from railwear.geometry import roundness
+from railwear.errors import OptionError, ScenarioError
+from railwear.geometry import bands, roundness
+from railwear.geometry.roundness import ROUGHNESS_REFERENCE
 from railwear.longterm.phenomenological import Phenomenological
-from railwear.measured import ANGLE_UNITS, DEVIATION_UNITS, read_measured
+from railwear.measured import ANGLE_UNITS, BLANK, DEVIATION_UNITS, NUMBER, read_measured, read_table
 from railwear.scenario import Scenario, load_scenario, scenario_hash, to_toml
 from railwear.scenario.schema import Solver
 from railwear.scenario import build
-from railwear.units import MM, kmh_to_m_s, m_s_to_kmh
+from railwear.units import MM, UM, kmh_to_m_s, m_s_to_kmh
 
 QUANTILES = (0.05, 0.5, 0.95)
+LENGTH_UNITS = {"mm": MM, "um": UM, "µm": UM, "m": 1.0}
+LEVEL_RANGE = (-100.0, 100.0)  # dB re 1 µm: a limit level beyond it is a typing error
+ECHO_RANGE = 40.0  # dB: the bands echoed lie within this of the measured wheel's largest band
+BAND_UNITS = {"wavelength_m": 1.0, "wavelength_cm": 1e-2, "wavelength_mm": MM}
+
+
+class NoScatterWarning(UserWarning):
+    """The scenario's ``[service]`` gives every sample the same conditions: a band of zero width."""
+
+
+@dataclass(frozen=True)
+class Limit:
+    """An out-of-roundness limit. ``kind`` ``"peak_to_peak"`` (``peak_to_peak`` in m),
+    ``"order_level"`` (``levels`` in dB re 1 µm per order ``orders``; no orders: the one level
+    for every order; the level of order n is ``20 lg(A_n / √2 / 1 µm)``) or ``"band_level"``
+    (``spectrum``, a :class:`~railwear.geometry.bands.LimitSpectrum`); ``name`` says which."""
+
+    kind: str
+    name: str
+    peak_to_peak: float = float("nan")
+    orders: tuple = ()
+    levels: tuple = ()
+    spectrum: bands.LimitSpectrum | None = field(default=None, compare=False)
+
+    def check(self, u, diameter):
+        """Refuse (``limit: ...``) a limit the wheel ``u`` (m, on the grid) cannot be compared with."""
+        top = u.shape[-1] // 2 - 1
+        if self.kind == "order_level" and self.orders and max(self.orders) > top:
+            raise OptionError(f"limit: order {max(self.orders)} is above the grid's highest order {top} "
+                              "(raise solver.points)")
+        if self.kind == "band_level":
+            over = bands.exceedance(bands.band_levels(u, diameter), self.spectrum)
+            if np.all(np.isnan(over.level)):
+                raise OptionError(f"limit: none of the bands of {self.name} ({self.spectrum.wavelength.max() / MM:g} "
+                                  f"to {self.spectrum.wavelength.min() / MM:g} mm) holds a wavelength of this wheel "
+                                  f"(diameter {diameter / MM:g} mm, {u.shape[-1]} points)")
+
+    def excess(self, u, diameter):
+        """``(excess, where)`` along the last axis of ``u`` (m): the largest level above the
+        limit (dB; ``-inf`` for a round wheel), and the order (order limits) or band centre
+        wavelength in m (band limits) where it lies (``nan`` for a peak-to-peak limit)."""
+        u = np.asarray(u, float)
+        with np.errstate(divide="ignore"):
+            if self.kind == "peak_to_peak":
+                excess = 20 * np.log10(np.ptp(u, axis=-1) / self.peak_to_peak)
+                return excess, np.full(excess.shape, np.nan)
+            if self.kind == "order_level":
+                orders, amp = bands.order_amplitudes(u)
+                orders, amp = orders[:-1], amp[..., :-1]  # the alternating order N/2 is no polygon
+                limit = np.full(orders.size, self.levels[0]) if not self.orders else None
+                if limit is None:
+                    keep = np.isin(orders, self.orders)
+                    orders, amp = orders[keep], amp[..., keep]
+                    limit = np.array(self.levels)[np.searchsorted(self.orders, orders)]
+                over = 20 * np.log10(amp / np.sqrt(2) / ROUGHNESS_REFERENCE) - limit
+                k = np.argmax(over, axis=-1)
+                return np.take_along_axis(over, k[..., None], -1)[..., 0], orders[k].astype(float)
+            over = bands.exceedance(bands.band_levels(u, diameter), self.spectrum).excess
+        over = np.where(np.isnan(over), -np.inf, over)
+        k = np.argmax(over, axis=-1)
+        return np.take_along_axis(over, k[..., None], -1)[..., 0], self.spectrum.wavelength[k]
+
+
+def peak_to_peak_limit(value):
+    """A :class:`Limit` on the peak-to-peak radius deviation ``value`` (m, in (0, 1])."""
+    if not (np.isfinite(value) and 0 < value <= 1.0):
+        raise OptionError(f"limit: must be in (0, 1] m, got {value!r}")
+    return Limit("peak_to_peak", f"{value / MM:g} mm peak to peak", peak_to_peak=float(value))
+
+
+def order_limit(levels, orders=None, name=None):
+    """A :class:`Limit` on the roughness level per order (dB re 1 µm): one level for every order
+    (``orders`` None) or a level per order in ``orders`` (whole numbers of at least 1, each once)."""
+    levels = np.atleast_1d(np.asarray(levels, float))
+    if not (np.all(np.isfinite(levels)) and np.all((levels >= LEVEL_RANGE[0]) & (levels <= LEVEL_RANGE[1]))):
+        raise OptionError(f"limit: levels must be in [{LEVEL_RANGE[0]:g}, {LEVEL_RANGE[1]:g}] dB re 1 um")
+    if orders is None:
+        if levels.size != 1:
+            raise OptionError("limit: one level for every order, or give the orders")
+        return Limit("order_level", name or f"{levels[0]:g} dB re 1 um in every order", levels=(float(levels[0]),))
+    orders = np.atleast_1d(np.asarray(orders, float))
+    if orders.size != levels.size or np.any(orders < 1) or np.any(orders != np.round(orders)):
+        raise OptionError("limit: orders must be whole numbers of at least 1, one per level")
+    if np.unique(orders).size != orders.size:
+        raise OptionError("limit: an order is given twice")
+    k = np.argsort(orders)
+    return Limit("order_level", name or f"levels per order {int(orders.min())} to {int(orders.max())}",
+                 orders=tuple(int(n) for n in orders[k]), levels=tuple(float(v) for v in levels[k]))
+
+
+def band_limit(spectrum):
+    """A :class:`Limit` on the one-third-octave band levels: a ``LimitSpectrum``."""
+    return Limit("band_level", spectrum.name, spectrum=spectrum, orders=tuple(int(k) for k in spectrum.index),
+                 levels=tuple(float(v) for v in spectrum.level))
+
+
+def parse_length(text, field, high=1.0):
+    """``0.3mm``, ``300um`` or ``3e-4m`` in metres, positive and at most ``high`` m; else an
+    :class:`OptionError` naming ``field``."""
+    stripped = str(text).strip(BLANK)
+    for suffix in ("mm", "um", "µm", "m"):
+        number = stripped.removesuffix(suffix).strip(BLANK)
+        if number != stripped and NUMBER.fullmatch(number):
+            value = float(number) * LENGTH_UNITS[suffix]
+            if 0 < value <= high:
+                return value
+            break
+    raise OptionError(f"{field}: expected a positive length of at most {high:g} m with a unit "
+                      f"(0.3mm, 300um, 3e-4m), got {text!r}")
+
+
+def read_limit_table(path, field="limit"):
+    """A :class:`Limit` from a CSV table: columns ``order`` and ``level_db`` (per order), or
+    ``wavelength_mm`` (``_cm``, ``_m``) and ``level_db`` (one-third-octave bands); the dialects
+    of :func:`railwear.measured.read_table`."""
+    path = Path(path)
+    header, table = read_table(path, field)
+    if "level_db" not in header:
+        raise OptionError(f"{field}: {path.name}: needs a level_db column beside order or wavelength_mm")
+    level = table[:, header.index("level_db")]
+    if "order" in header:
+        return order_limit(level, table[:, header.index("order")], name=f"{path.name} (levels per order)")
+    unit = next((u for u in BAND_UNITS if u in header), None)
+    if unit is None:
+        raise OptionError(f"{field}: {path.name}: names neither an order nor a wavelength_mm column")
+    try:
+        spectrum = bands.limit_spectrum(table[:, header.index(unit)] * BAND_UNITS[unit], level,
+                                        name=f"{path.name} (band levels)", source=str(path.name))
+    except ScenarioError as e:
+        raise OptionError(f"{field}: {e}") from None
+    return band_limit(spectrum)
+
+
+def parse_limit(text, field="limit"):
+    """A :class:`Limit` from its text: a peak-to-peak length (``0.3mm``), a level for every order
+    (``20dB``), ``iso3095`` (the band limit of :func:`~railwear.geometry.bands.iso3095_limit`),
+    or a CSV table (:func:`read_limit_table`)."""
+    stripped = str(text).strip(BLANK)
+    if stripped.lower() == "iso3095":
+        return band_limit(bands.iso3095_limit())
+    if stripped.lower().endswith("db") and NUMBER.fullmatch(stripped[:-2].strip(BLANK)):
+        try:
+            return order_limit(float(stripped[:-2]))
+        except OptionError as e:
+            raise OptionError(f"{field}: {str(e).removeprefix('limit: ')}") from None
+    if stripped and not stripped[0].isdigit() and not stripped.startswith((".", "+", "-")) and Path(stripped).is_file():
+        return read_limit_table(stripped, field)
+    try:
+        return peak_to_peak_limit(parse_length(stripped, field))
+    except OptionError:
+        raise OptionError(f"{field}: expected a peak-to-peak length (0.3mm, 300um), a level per order (20dB), "
+                          f"iso3095 or a CSV table of limits, got {text!r}") from None
+
+
+def as_limit(limit):
+    """A :class:`Limit` from a Limit, a peak-to-peak length in m, or a text (:func:`parse_limit`)."""
+    if isinstance(limit, Limit):
+        return limit
+    if isinstance(limit, str):
+        return parse_limit(limit)
+    return peak_to_peak_limit(float(limit))
 
 
 def draw_conditions(scenario: Scenario):
@@ -40,6 +208,11 @@ def draw_conditions(scenario: Scenario):
     return np.maximum(speed, 1.0), np.maximum(load, 1e-3), friction
 
 
+NO_SCATTER = ("the scenario's [service] gives every sample the same speed, load and friction: the "
+              "forecast is one distance and its '90 % band' has no width (set speed_scatter_kmh, "
+              "load_scatter or friction_range, or more than one speed peak)")
+
+
 def crossing(time, peak_to_peak, limit):
     """First time the peak-to-peak reaches ``limit``, interpolated linearly; ``inf`` if never."""
     above = np.flatnonzero(peak_to_peak >= limit)
@@ -52,21 +225,43 @@ def crossing(time, peak_to_peak, limit):
     return float(t0 + (limit - p0) / (p1 - p0) * (t1 - t0))
 
 
-def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=201, progress=None):
-    """Distance (km) until the peak-to-peak deviation reaches ``limit`` (m), per sample.
+def measured_state(u, diameter):
+    """What the measured wheel ``u`` (m, on the grid) is now: a dict of ``peak_to_peak`` (m),
+    ``dominant_order`` with its ``dominant_amplitude`` (m) and ``dominant_level`` (dB re 1 µm),
+    and its one-third-octave ``band_levels`` (:class:`~railwear.geometry.bands.BandLevels`) on a
+    wheel of ``diameter`` (m)."""
+    spectrum = roundness.polygon_spectrum(u)
+    n = spectrum["dominant_order"]
+    return {"peak_to_peak": spectrum["peak_to_peak"], "dominant_order": n,
+            "dominant_amplitude": float(spectrum["amplitude"][n - 1]),
+            "dominant_level": float(spectrum["roughness_level"][n - 1]),
+            "band_levels": bands.band_levels(u, diameter)}
 
-    ``angle`` (rad) and ``deviation`` (m) are the measured wheel; ``horizon`` is in units of
+
+def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=201, progress=None):
+    """Distance (km) until the measured wheel reaches ``limit``, per sample.
+
+    ``angle`` (rad) and ``deviation`` (m) are the measured wheel; ``limit`` a :class:`Limit`, a
+    peak-to-peak deviation in m or a text (:func:`parse_limit`); ``horizon`` is in units of
     normed time (default the scenario's ``solver.t_end``). Returns a Dataset with the samples'
-    conditions, peak-to-peak over distance and crossing distances, and the quantiles in attributes.
+    conditions, peak-to-peak and excess over the limit over distance, crossing distances, the
+    measured wheel's state, and the quantiles in attributes. Warns (:class:`NoScatterWarning`)
+    when the samples all run the same conditions.
     """
+    limit = as_limit(limit)
+    diameter = 2 * scenario.wheel.radius_m
+    u0 = roundness.resample_measured(angle, deviation, scenario.solver.points)
+    limit.check(u0, diameter)
     speed, load, friction = draw_conditions(scenario)
+    scatter = bool(np.ptp(speed) > 0 or np.ptp(load) > 0 or np.ptp(friction) > 0)
+    if not scatter:
+        warnings.warn(NO_SCATTER, NoScatterWarning, stacklevel=2)
     forms = []
     for v, w, mu in zip(speed, load, friction):
         sample = scenario.model_copy(update={
             "wheel": scenario.wheel.model_copy(update={"static_load_kN": float(w)}),
             "contact": scenario.contact.model_copy(update={"friction_coefficient": float(mu)})})
         forms.append(build.wear_rate(sample))
-    u0 = roundness.resample_measured(angle, deviation, scenario.solver.points)
     solver = scenario.solver
     t_end = solver.t_end if horizon is None else horizon
     strategy = Phenomenological(forms, kmh_to_m_s(speed), solver.epsilon, solver.nu,
@@ -74,48 +269,76 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
                                 life_distance=build.life_distance(scenario))
     ds = strategy.run(u0, t_end, progress=progress)
     life = scenario.operation.life_distance_km
-    dev = ds.u - ds.u.mean("angle")
-    ptp = (dev.max("angle") - dev.min("angle")).transpose("speed", "time").values
+    dev = (ds.u - ds.u.mean("angle")).transpose("speed", "time", "angle")
+    ptp = (dev.max("angle") - dev.min("angle")).values
+    excess, where = limit.excess(dev.values, diameter)
     times = ds.time.values
-    cross = np.array([crossing(times, p, limit) for p in ptp]) * life
-    orders = []
-    for i, c in enumerate(cross):
-        k = int(np.searchsorted(times * life, c)) if np.isfinite(c) else times.size - 1
-        orders.append(roundness.polygon_spectrum(dev.isel(speed=i, time=min(k, times.size - 1)).values)["dominant_order"])
+    if limit.kind == "peak_to_peak":
+        cross = np.array([crossing(times, p, limit.peak_to_peak) for p in ptp]) * life
+    else:
+        cross = np.array([crossing(times, e, 0.0) for e in excess]) * life
+    at = [int(np.searchsorted(times * life, c)) if np.isfinite(c) else times.size - 1 for c in cross]
+    at = np.minimum(at, times.size - 1)
+    orders = np.array([roundness.polygon_spectrum(dev.values[i, k])["dominant_order"] for i, k in enumerate(at)])
+    crossed = np.isfinite(cross)
     with np.errstate(invalid="ignore"):  # inf where more than that fraction never crosses
         q = np.quantile(cross, QUANTILES, method="inverted_cdf")
+    state = measured_state(u0, diameter)
+    levels = state["band_levels"]
+    variables = {
+        "peak_to_peak": (("sample", "distance"), ptp, {"units": "m", "long_name": "peak-to-peak radius deviation"}),
+        "excess": (("sample", "distance"), excess,
+                   {"units": "dB", "long_name": f"largest level above the limit ({limit.name})"}),
+        "crossing_distance": (("sample",), cross,
+                              {"units": "km", "long_name": "distance until the limit is reached (inf: not within the horizon)"}),
+        "dominant_order": (("sample",), orders,
+                           {"units": "1", "long_name": "dominant polygon order at the crossing (at the horizon if none)"}),
+        "speed": (("sample",), speed, {"units": "km h-1", "long_name": "vehicle speed"}),
+        "static_load": (("sample",), load, {"units": "kN", "long_name": "static wheel load"}),
+        "friction_coefficient": (("sample",), friction, {"units": "1", "long_name": "friction coefficient"}),
+        "u_initial": (("angle",), u0, {"units": "m", "long_name": "measured radius deviation on the grid"}),
+        "measured_band_level": (("band",), levels.level,
+                                {"units": "dB", "long_name": "one-third-octave band level of the measured wheel, re 1 um"}),
+        "band_resolved": (("band",), levels.resolved.astype(np.int8),
+                          {"units": "1", "long_name": "1 where the band is at most a quarter of the circumference"}),
+    }
+    if limit.kind != "peak_to_peak":
+        name, units = (("limiting_order", "1") if limit.kind == "order_level" else ("limiting_wavelength", "m"))
+        variables[name] = (("sample",), where[np.arange(speed.size), at],
+                           {"units": units, "long_name": "order or band furthest above the limit at the crossing "
+                                                         "(at the horizon if none)"})
     sample = np.arange(speed.size)
-    out = xr.Dataset(
-        {
-            "peak_to_peak": (("sample", "distance"), ptp,
-                             {"units": "m", "long_name": "peak-to-peak radius deviation"}),
-            "crossing_distance": (("sample",), cross,
-                                  {"units": "km", "long_name": "distance until the limit is reached (inf: not within the horizon)"}),
-            "dominant_order": (("sample",), np.array(orders),
-                               {"units": "1", "long_name": "dominant polygon order at the crossing"}),
-            "speed": (("sample",), speed, {"units": "km h-1", "long_name": "vehicle speed"}),
-            "static_load": (("sample",), load, {"units": "kN", "long_name": "static wheel load"}),
-            "friction_coefficient": (("sample",), friction, {"units": "1", "long_name": "friction coefficient"}),
-            "u_initial": (("angle",), u0, {"units": "m", "long_name": "measured radius deviation on the grid"}),
-        },
+    attrs = {"limit_kind": limit.kind, "limit_name": limit.name,
+             "crossing_median_km": q[1], "crossing_p05_km": q[0], "crossing_p95_km": q[2],
+             "fraction_crossed": float(np.mean(crossed)),
+             "dominant_order": int(np.bincount(orders[crossed] if crossed.any() else orders).argmax()),
+             "dominant_order_at": "crossing" if crossed.any() else "horizon",
+             "horizon_km": float(times[-1] * life), "scatter": int(scatter),
+             "initial_excess_db": float(excess[0, 0]), "above_at_start": int(excess[0, 0] >= 0 or cross.min() == 0),
+             "measured_peak_to_peak_m": state["peak_to_peak"], "measured_dominant_order": state["dominant_order"],
+             "measured_dominant_amplitude_m": state["dominant_amplitude"],
+             "measured_dominant_level_db": state["dominant_level"], "wheel_diameter_m": diameter,
+             "scenario": to_toml(scenario), "scenario_hash": scenario_hash(scenario)}
+    if limit.kind == "peak_to_peak":
+        attrs["limit_m"] = limit.peak_to_peak
+    else:
+        attrs.update(limit_orders=np.array(limit.orders, int), limit_levels_db=np.array(limit.levels, float))
+    return xr.Dataset(
+        variables,
         coords={"sample": sample, "distance": ("distance", times * life, {"units": "km", "long_name": "distance run"}),
-                "angle": ("angle", ds.angle.values, dict(ds.angle.attrs))},
-        attrs={"limit_m": limit, "crossing_median_km": q[1], "crossing_p05_km": q[0], "crossing_p95_km": q[2],
-               "fraction_crossed": float(np.mean(np.isfinite(cross))),
-               "dominant_order": int(np.bincount(np.array(orders)[np.isfinite(cross)]).argmax()) if np.isfinite(cross).any() else 0,
-               "horizon_km": float(times[-1] * life), "scenario": to_toml(scenario),
-               "scenario_hash": scenario_hash(scenario)},
-    )
-    return out
+                "angle": ("angle", ds.angle.values, dict(ds.angle.attrs)),
+                "band": ("band", levels.wavelength, {"units": "m", "long_name": "nominal band centre wavelength"})},
+        attrs=attrs)
 
 
 def forecast_file(measured, scenario=None, limit=0.3 * MM, samples=None, seed=None, horizon_km=None,
-                  angle_unit=None, deviation_unit=None, progress=None):
+                  angle_unit=None, deviation_unit=None, progress=None, nominal_diameter=None):
     """:func:`forecast` for a measured wheel in a CSV file (see :mod:`railwear.measured`; the
     units of plain ``angle`` and ``deviation`` columns are ``angle_unit`` 'deg' or 'rad' and
-    ``deviation_unit`` 'um', 'mm' or 'm'), a scenario file or built-in name, ``limit`` in m,
-    ``samples`` and ``seed`` in place of the scenario's ``[service]`` ones and ``horizon_km``
-    the distance to look ahead (default the scenario's ``solver.t_end`` lives)."""
+    ``deviation_unit`` 'um', 'mm' or 'm'; ``nominal_diameter`` in m for a file of absolute
+    radius or diameter), a scenario file or built-in name, ``limit`` as :func:`forecast` takes
+    it, ``samples`` and ``seed`` in place of the scenario's ``[service]`` ones and
+    ``horizon_km`` the distance to look ahead (default the scenario's ``solver.t_end`` lives)."""
     sc = load_scenario(scenario)
     service = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
     if service:
@@ -124,8 +347,7 @@ def forecast_file(measured, scenario=None, limit=0.3 * MM, samples=None, seed=No
         except ValidationError as e:
             first = e.errors()[0]
             raise OptionError(f"{first['loc'][-1]}: {first['msg']}") from None
-    if not (np.isfinite(limit) and 0 < limit <= 1.0):
-        raise OptionError(f"limit: must be in (0, 1] m, got {limit!r}")
+    limit = as_limit(limit)
     if horizon_km is not None and not (np.isfinite(horizon_km) and horizon_km > 0):
         raise OptionError(f"horizon_km: must be finite and > 0 (km), got {horizon_km!r}")
     for name, unit, units in (("angle_unit", angle_unit, ANGLE_UNITS), ("deviation_unit", deviation_unit, DEVIATION_UNITS)):
@@ -138,17 +360,76 @@ def forecast_file(measured, scenario=None, limit=0.3 * MM, samples=None, seed=No
         except ValidationError as e:
             raise OptionError(f"horizon_km: {horizon_km:g} km is {horizon:g} lives: "
                               f"{e.errors()[0]['msg'].removeprefix('Value error, ')}") from None
-    angle, deviation = read_measured(measured, angle_unit, deviation_unit, field=str(measured))
+    angle, deviation = read_measured(measured, angle_unit, deviation_unit, field=str(measured),
+                                     nominal_diameter=nominal_diameter)
     return forecast(sc, angle, deviation, limit, horizon, progress=progress)
 
 
-def report(ds):
-    """Lines for a person."""
-    def km(x):
-        return f"{x:,.0f} km" if np.isfinite(x) else f"beyond {ds.attrs['horizon_km']:,.0f} km"
+def _km(x, horizon):
+    return f"{x:,.0f} km" if np.isfinite(x) else f"beyond {horizon:,.0f} km"
 
+
+def _wavelength(m):
+    return f"{m / MM:.4g} mm"
+
+
+def _limiting(ds):
+    """Where the limit bites at the crossing (or at 0 km): the commonest order or band, or ''."""
+    crossed = np.isfinite(ds.crossing_distance.values)
+    for name, words in (("limiting_order", "order {:.0f}"), ("limiting_wavelength", "the {} band")):
+        if name in ds and crossed.any():
+            values, counts = np.unique(ds[name].values[crossed], return_counts=True)
+            value = values[counts.argmax()]
+            return words.format(_wavelength(value) if name == "limiting_wavelength" else value)
+    return ""
+
+
+def measured_text(ds):
+    """Lines on the measured wheel's state: peak to peak, dominant order, band levels."""
     a = ds.attrs
-    return (f"limit {a['limit_m'] / MM:g} mm peak-to-peak: median {km(a['crossing_median_km'])}, "
-            f"90 % band {km(a['crossing_p05_km'])} to {km(a['crossing_p95_km'])} "
-            f"({a['fraction_crossed']:.0%} of {ds.sizes['sample']} samples cross); "
-            f"dominant order {a['dominant_order']}\n")
+    if "measured_peak_to_peak_m" not in a:
+        return ""
+    lines = [f"measured wheel: {a['measured_peak_to_peak_m'] / UM:.1f} um peak to peak, dominant order "
+             f"{a['measured_dominant_order']} ({a['measured_dominant_amplitude_m'] / UM:.1f} um amplitude, "
+             f"{a['measured_dominant_level_db']:.1f} dB re 1 um)"]
+    level = ds.measured_band_level.values
+    if np.isfinite(level).any():
+        keep = level >= np.max(level) - ECHO_RANGE
+        cells = [(f"{_wavelength(w)} {v:.1f}" if r else f"({_wavelength(w)} {v:.1f})")
+                 for w, v, r, k in zip(ds.band.values, level, ds.band_resolved.values, keep) if k]
+        lines.append(f"  band levels, dB re 1 um (EN 15610, diameter {a['wheel_diameter_m'] / MM:g} mm; in brackets "
+                     f"bands longer than a quarter of the circumference, not resolved): " + ", ".join(cells))
+    return "\n".join(lines) + "\n"
+
+
+def report(ds):
+    """Lines for a person: the measured wheel, the limit, and when it is reached, in words."""
+    a = ds.attrs
+    horizon, samples = a["horizon_km"], ds.sizes["sample"]
+    name = a.get("limit_name", f"{a.get('limit_m', float('nan')) / MM:g} mm peak to peak")
+    lines = [measured_text(ds).rstrip("\n")] if "measured_peak_to_peak_m" in a else []
+    lines.append(f"limit: {name}")
+    excess = ds.excess.values if "excess" in ds else None
+    where = _limiting(ds)
+    if a.get("above_at_start", 0) or (np.isfinite(a["crossing_p95_km"]) and a["crossing_p95_km"] == 0):
+        over = f" by {a['initial_excess_db']:.1f} dB" if "initial_excess_db" in a else ""
+        lines.append(f"  already above the limit at 0 km{over}{f' ({where})' if where else ''}: "
+                     "the wheel is due for re-profiling now")
+    elif a["fraction_crossed"] == 0:
+        closest = f"; the closest sample ends {-np.max(excess[:, -1]):.1f} dB under it" if excess is not None else ""
+        lines.append(f"  no sample reaches the limit within the horizon of {horizon:,.0f} km "
+                     f"({samples} samples){closest}; dominant order at {horizon:,.0f} km: {a['dominant_order']}")
+    else:
+        if not a.get("scatter", 1):
+            when = (f"reached after {_km(a['crossing_median_km'], horizon)}, the same for every sample: the "
+                    "scenario has no service scatter, so there is no band")
+        else:
+            share = ("every sample reaches it" if a["fraction_crossed"] == 1 else
+                     f"{a['fraction_crossed']:.0%} of {samples} samples reach it within {horizon:,.0f} km")
+            when = (f"reached after {_km(a['crossing_median_km'], horizon)} (median of {samples} samples), "
+                    f"90 % band {_km(a['crossing_p05_km'], horizon)} to {_km(a['crossing_p95_km'], horizon)}; {share}")
+        lines.append(f"  {when}; dominant order at the crossing {a['dominant_order']}"
+                     + (f", furthest above the limit there: {where}" if where else ""))
+    if not a.get("scatter", 1):
+        lines.append(f"  warning: {NO_SCATTER}")
+    return "\n".join(lines) + "\n"
