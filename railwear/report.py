@@ -160,7 +160,7 @@ def html_report(ds, figures=(), caught=(), compiled=False, warnings_known=True):
         parts.append(f"<h3>{_e(title)}</h3>")
         if "regime" in d:
             rule = d.regime.attrs.get("rule", "")
-            parts.append(f"<p>regime <b>{_e(entry['regime'])}</b>" + (f": {_e(rule)}" if rule else "") + "</p>")
+            parts.append(f"<p>regime <strong>{_e(entry['regime'])}</strong>" + (f": {_e(rule)}" if rule else "") + "</p>")
             parts.append("<h4>The numbers behind the regime</h4>")
             parts.append(_table(("quantity", "value", "standard error", "unit"), growth_rows(d, life)))
         rows = polygon_rows(entry)
