@@ -365,30 +365,39 @@ def sweep(ds):
 
 
 def forecast(ds):
-    """Peak-to-peak deviation over distance for every sample, the limit, and the crossing band
-    (with a histogram of the crossings when any sample reaches the limit)."""
-    crossed = ds.crossing_distance.values[np.isfinite(ds.crossing_distance.values)]
-    fig, axes = _figure(7, 6.5 if crossed.size else 4, 2 if crossed.size else 1)
+    """For every sample over distance, the peak-to-peak deviation (µm) against a peak-to-peak
+    limit, or the largest level above a limit per order or band (dB) against 0 dB; the median
+    and 90 % band of the crossings, and their histogram when a sample reaches the limit after
+    0 km (a wheel already above it, or no crossing at all, is said in the title, no empty panel)."""
+    cross = ds.crossing_distance.values
+    crossed = cross[np.isfinite(cross)]
+    above = bool(ds.attrs.get("above_at_start", crossed.size == cross.size and np.all(crossed == 0)))
+    fig, axes = _figure(7, 6.5 if crossed.size and not above else 4, 2 if crossed.size and not above else 1)
     ax = axes[0]
-    limit = ds.attrs["limit_m"] / UM
     distance = ds.distance.values
-    for i, p in enumerate(ds.peak_to_peak.values):
-        ax.plot(distance, p / UM, color="C0", lw=0.6, alpha=0.4, label="samples" if i == 0 else None)
-    ax.axhline(limit, color="C3", lw=1.5, label=f"limit {limit:g} µm")
+    if "limit_m" in ds.attrs:
+        values, limit, ylabel = ds.peak_to_peak.values / UM, ds.attrs["limit_m"] / UM, "peak-to-peak (µm)"
+        label = f"limit {limit:g} µm"
+    else:
+        values, limit, ylabel = ds.excess.values, 0.0, "largest level above the limit (dB)"
+        label = f"limit: {ds.attrs.get('limit_name', '')}"
+    for i, p in enumerate(values):
+        ax.plot(distance, p, color="C0", lw=0.6, alpha=0.4, label="samples" if i == 0 else None)
+    ax.axhline(limit, color="C3", lw=1.5, label=label)
     for key, style, name in (("crossing_p05_km", ":", "5 % / 95 % of the crossings"), ("crossing_median_km", "-", "median"),
                              ("crossing_p95_km", ":", None)):
-        if np.isfinite(ds.attrs[key]):
+        if np.isfinite(ds.attrs[key]) and not above:
             ax.axvline(ds.attrs[key], color="k", ls=style, lw=1, label=name)
-    title = ("out-of-roundness per sample, median and 90 % band of the crossing" if crossed.size else
-             f"out-of-roundness per sample: none of {ds.sizes['sample']} reaches the limit "
-             f"within {distance[-1]:.0f} km")
-    ax.set(xlabel="distance (km)", ylabel="peak-to-peak (µm)", title=title)
+    n = ds.sizes["sample"]
+    title = ("out-of-roundness per sample: already above the limit at 0 km" if above else
+             "out-of-roundness per sample, median and 90 % band of the crossing" if crossed.size else
+             f"out-of-roundness per sample: none of {n} reaches the limit within {distance[-1]:.0f} km")
+    ax.set(xlabel="distance (km)", ylabel=ylabel, title=title)
     ax.legend(fontsize="small")
-    if crossed.size:
+    if crossed.size and not above:
         hist = axes[1]
         hist.hist(crossed, bins=min(30, max(5, crossed.size // 3)), color="C0")
-        hist.set(xlabel="distance at the limit (km)", ylabel="samples",
-                 title=f"{crossed.size} of {ds.sizes['sample']} samples reach the limit")
+        hist.set(xlabel="distance at the limit (km)", ylabel="samples", title=f"{crossed.size} of {n} samples reach the limit")
     return fig
 
 
