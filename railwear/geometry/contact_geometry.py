@@ -31,6 +31,8 @@ from numba import njit
 from scipy.optimize import brentq
 
 from railwear.contact import hertz_contact, kalker_coefficients
+from railwear.contact.multipoint import _semi_wheel
+from railwear.geometry.contact_models import CONTACT_MODELS, point_contacts, resultant
 from railwear.errors import ScenarioError
 from railwear.geometry.profiles import Profile
 from railwear.units import MM
@@ -277,6 +279,64 @@ def _table_core(shifts, yaws, grid, wx, wc, rx, rc, yw0, yr0, r0, out_theta, out
                                                         wx, wc, rx, rc, yw0, yr0, r0)
 
 
+_CAP = 4.0  # semi-hertzian: the approach is sought below _CAP times the primary point's alone
+
+
+@njit(cache=True)
+def _semi_table(shifts, yaws, theta, drop, G, yp, cosg, A, K0, Q, estar, wx, wc, rx, rc, yw0, yr0, r0, h, J,
+                u, eps_t, ap_t, out, delta):
+    """Semi-Hertzian patches for every shift and wheel (``railwear.geometry.contact_models``):
+    the gap sampled on ``h`` around every minimum of gap ``G`` below the bound, solved by
+    ``multipoint._semi_wheel``; fills ``out``
+    (n, 2, P, fields) and ``delta`` (n, 2)."""
+    n, _, P = G.shape
+    F = np.empty((P, 2 * J + 1))
+    starts = np.full(P, J, dtype=np.int64)
+    hs = np.empty(P)
+    for k in range(n):
+        cth, sth = np.cos(theta[k]), np.sin(theta[k])
+        cps, sps = np.cos(yaws[k]), np.sin(yaws[k])
+        for side in range(2):
+            sgn = 1.0 - 2.0 * side
+            first = G[k, side, 0]
+            if not np.isfinite(first):
+                delta[k, side] = np.nan
+                continue
+            # bound on the approach: the primary point alone (Hertz), times _CAP
+            cap = first + _CAP * (Q / (K0[k, side] * cosg[k, side, 0] ** 2.5)) ** (2.0 / 3.0)
+            base = drop[k]
+            for i in range(P):
+                g_i = G[k, side, i]
+                c = cosg[k, side, i]
+                hs[i] = h / c if np.isfinite(g_i) else h
+                if not (np.isfinite(g_i) and g_i < cap):
+                    for j in range(2 * J + 1):
+                        F[i, j] = 1.0
+                    continue
+                F[i, J] = 0.0
+                for direction in (-1, 1):
+                    stop = False
+                    for j in range(1, J + 1):
+                        idx = J + direction * j
+                        if stop:
+                            F[i, idx] = 1.0
+                            continue
+                        gap = _gap(yp[k, side, i] + direction * j * h, sgn, shifts[k], cth, sth, cps, sps,
+                                   wx, wc, rx, rc, yw0, yr0, r0) - base
+                        if not np.isfinite(gap):
+                            F[i, idx] = 1.0
+                            stop = True
+                            continue
+                        F[i, idx] = (gap - G[k, side, i]) * c
+                        if F[i, idx] > 2.0 * cap * c:
+                            stop = True
+            pos = np.empty(P)
+            for i in range(P):
+                pos[i] = yp[k, side, i] if np.isfinite(G[k, side, i]) else np.nan
+            delta[k, side] = _semi_wheel(F, starts, hs, G[k, side], cosg[k, side], A[k, side], pos, h, Q, estar,
+                                         u, eps_t, ap_t, cap, out[k, side])
+
+
 def gauge_point(rail, depth=0.014):
     """Lateral profile coordinate [m] of the rail's gauge face at ``depth`` below the top."""
     y = np.linspace(rail.span[0], rail.span[1], 4001)
@@ -311,7 +371,8 @@ def _order_contacts(gaps, where, count, rails, xs):
 
 def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360, axle_load=133.4e3,
                   y=None, rolling_radius=0.46, taping_line_offset=0.070, gauge_depth=0.014,
-                  youngs_modulus=2.1e11, poisson=0.28, two_point_gap=1e-5, yaw=0.0):
+                  youngs_modulus=2.1e11, poisson=0.28, two_point_gap=1e-5, yaw=0.0, contact_model="hertz",
+                  semi_hertz_step=1e-4):
     """Contact table of a symmetric wheelset on straight track, as an ``xarray.Dataset`` over ``y``.
 
     wheel, rail: :class:`~railwear.geometry.profiles.Profile` (right-hand side; the left side is
@@ -323,11 +384,19 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
     youngs_modulus [Pa], poisson [-] of both bodies; two_point_gap [m]: a secondary contact
     whose gap is below it counts as two-point contact; yaw [rad]: yaw angle of the wheelset, a
     number or one value per shift (the contact points then move off the vertical plane through
-    the axle, ``contact_X`` ahead of the wheel centre).
+    the axle, ``contact_X`` ahead of the wheel centre); contact_model: ``"hertz"`` (one rigid
+    contact point per wheel carrying ``Q / cos δ``), ``"multi-hertz"`` or ``"semi-hertzian"``
+    (several contacts per wheel sharing the load, :mod:`railwear.geometry.contact_models`: the
+    per-wheel variables are then the resultant the dynamics read, and ``point_*`` over ``point``
+    hold every contact); semi_hertz_step [m]: sampling of the separation across the profile.
 
     Variables (dims y or (y, side)) carry CF ``units`` and ``long_name``; see the module
     docstring for the definitions.
     """
+    if contact_model not in CONTACT_MODELS:
+        raise ScenarioError(f"contact_model must be one of {', '.join(CONTACT_MODELS)}, got {contact_model!r}")
+    if not (np.isfinite(semi_hertz_step) and 1e-6 <= semi_hertz_step <= 1e-3):
+        raise ScenarioError(f"semi_hertz_step must lie in [1e-6, 1e-3] m, got {semi_hertz_step!r}")
     if not isinstance(wheel, Profile) or not isinstance(rail, Profile):
         raise ScenarioError("wheel and rail must be Profile objects (see load_profile)")
     if wheel.kind != "wheel" or rail.kind != "rail":
@@ -423,6 +492,23 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
     two_point = g2 < two_point_gap
     dr = radius[:, 0] - radius[:, 1]
 
+    points = None
+    if contact_model != "hertz":
+        def both(right, left):
+            return np.stack([right, left], axis=1)
+
+        points, approach = point_contacts(
+            contact_model, shifts, yaws, theta, drop, both(gaps_r, gaps_l), both(where_r, where_l),
+            both(rail_r, rail_l), both(x_r, x_l), wheel, rail_c, (wx, wc, rx, rc), yw0, yr0, rolling_radius,
+            axle_load, youngs_modulus, poisson, semi_hertz_step, _semi_table)
+        eq = resultant(points, poisson, youngs_modulus, yr0)
+        radius, delta, N = eq["rolling_radius"], eq["contact_angle"], eq["normal_force"]
+        yp1, yr1, a, b = eq["wheel_contact_y"], eq["rail_contact_y"], eq["a"], eq["b"]
+        c11, c22, c23, c33 = eq["c11"], eq["c22"], eq["c23"], eq["c33"]
+        for s_, k in zip(sides, range(2)):
+            s_["Y"], s_["X"] = eq["contact_Y"][:, k], eq["contact_X"][:, k]
+        dr = radius[:, 0] - radius[:, 1]
+
     dims = ("y", "side")
     ds = xr.Dataset(
         data_vars=dict(
@@ -459,9 +545,58 @@ def contact_table(wheel, rail, gauge=1.435, cant=1.0 / 40.0, back_to_back=1.360,
         attrs=dict(
             wheel_profile=wheel.name, rail_profile=rail.name, gauge=gauge, cant=cant, back_to_back=back_to_back,
             axle_load=axle_load, nominal_rolling_radius=rolling_radius, taping_line_offset=taping_line_offset,
-            youngs_modulus=youngs_modulus, poisson=poisson,
+            youngs_modulus=youngs_modulus, poisson=poisson, contact_model=contact_model,
         ),
     )
+    if points is not None:
+        ds = _add_points(ds, points, approach, contact_model)
+    return ds
+
+
+_POINT_VARS = {  # name: (units, long_name)
+    "gap": ("m", "vertical gap at the contact before loading"),
+    "wheel_y": ("m", "contact position on the wheel profile (semi-hertzian: load centroid)"),
+    "rail_y": ("m", "contact position on the rail profile"),
+    "contact_X": ("m", "longitudinal position of the contact ahead of the wheel centre"),
+    "contact_angle": ("rad", "contact angle of the contact"),
+    "rolling_radius": ("m", "rolling radius at the contact"),
+    "normal_force": ("N", "normal force of the contact"),
+    "a": ("m", "semi-axis along rolling (semi-hertzian: equivalent ellipse, area / (pi b))"),
+    "b": ("m", "lateral semi-axis (semi-hertzian: half the patch width)"),
+    "p0": ("Pa", "peak pressure (semi-hertzian: at the point of largest interpenetration)"),
+    "c11": ("1", "Kalker coefficient C11 of the contact"),
+    "c22": ("1", "Kalker coefficient C22 of the contact"),
+    "c23": ("1", "Kalker coefficient C23 of the contact"),
+    "c33": ("1", "Kalker coefficient C33 of the contact"),
+    "f11": ("N", "Kalker creep coefficient G c^2 C11 of the contact"),
+    "f22": ("N", "Kalker creep coefficient G c^2 C22 of the contact"),
+    "f23": ("N m", "Kalker creep coefficient G c^3 C23 of the contact"),
+    "f33": ("N m2", "Kalker creep coefficient G c^4 C33 of the contact"),
+    "area": ("m2", "patch area"),
+    "half_length": ("m", "largest half-length of the patch along rolling"),
+    "lateral_min": ("m", "patch edge on the wheel profile, flange side"),
+    "lateral_max": ("m", "patch edge on the wheel profile, field side"),
+    "virtual_penetration_ratio": ("1", "virtual penetration over the approach"),
+    "patch_curvature": ("1/m", "lateral curvature of the interpenetration region, approach / half-width^2"),
+}
+
+
+def _add_points(ds, points, approach, model):
+    """The per-point variables ``point_*`` (y, side, point), their creep shares and the
+    vertical approach; the per-wheel variables are relabelled as the resultant."""
+    dims = ("y", "side", "point")
+    for name, value in points.items():
+        units, long_name = _POINT_VARS[name]
+        ds[f"point_{name}"] = (dims, value, dict(units=units, long_name=long_name))
+    share = points["f11"] / points["f11"].sum(-1, keepdims=True)
+    ds["point_creep_share"] = (dims, share, dict(units="1", long_name="share f11 / sum f11 of the wheel's contacts"))
+    ds["vertical_approach"] = (("y", "side"), approach, dict(units="m", long_name="vertical approach of the wheel under its load"))
+    ds["contact_count"] = (("y", "side"), (points["normal_force"] > 0).sum(-1),
+                           dict(units="1", long_name="contacts carrying load"))
+    for name in ("normal_force", "contact_angle", "rolling_radius", "wheel_contact_y", "rail_contact_y", "contact_Y",
+                 "contact_X", "a", "b", "c11", "c22", "c23", "c33"):
+        ds[name].attrs["long_name"] = f"resultant of the {model} contacts: " + ds[name].attrs["long_name"]
+    ds = ds.assign_coords(point=("point", np.arange(points["gap"].shape[-1]), dict(long_name="contact of the wheel, by gap")))
     return ds
 
 
