@@ -423,11 +423,16 @@ def report(ds):
         if not a.get("scatter", 1):
             when = (f"reached after {_km(a['crossing_median_km'], horizon)}, the same for every sample: the "
                     "scenario has no service scatter, so there is no band")
-        else:
+        elif np.isfinite(a["crossing_median_km"]):
             share = ("every sample reaches it" if a["fraction_crossed"] == 1 else
                      f"{a['fraction_crossed']:.0%} of {samples} samples reach it within {horizon:,.0f} km")
             when = (f"reached after {_km(a['crossing_median_km'], horizon)} (median of {samples} samples), "
                     f"90 % band {_km(a['crossing_p05_km'], horizon)} to {_km(a['crossing_p95_km'], horizon)}; {share}")
+        else:
+            first = (f"the first 5 % after {a['crossing_p05_km']:,.0f} km" if np.isfinite(a["crossing_p05_km"]) else
+                     f"the first after {np.nanmin(ds.crossing_distance.values):,.0f} km")
+            when = (f"{a['fraction_crossed']:.0%} of {samples} samples reach it within {horizon:,.0f} km, {first}; "
+                    f"the median lies beyond {horizon:,.0f} km")
         lines.append(f"  {when}; dominant order at the crossing {a['dominant_order']}"
                      + (f", furthest above the limit there: {where}" if where else ""))
     if not a.get("scatter", 1):
