@@ -43,6 +43,7 @@ import numpy as np
 
 from railwear.errors import ScenarioError
 from railwear.geometry import contact_table, worn_profile
+from railwear.geometry.contact_models import CONTACT_MODELS
 from railwear.geometry.wear_surface import WearSurface, deposit_rectangles, ellipse_footprint
 from railwear.longterm.base import Body, stop_time, time_coordinates
 from railwear.wear import ContactSample, WearLaw
@@ -123,6 +124,7 @@ class WheelsetWear:
     offsets: tuple = (1e-3, 3e-3)
     output_rate: float = 2000.0
     footprint: str = "hertz"
+    contact_model: str = "hertz"
 
     def __post_init__(self):
         if not isinstance(self.law, WearLaw):
@@ -138,6 +140,8 @@ class WheelsetWear:
             raise ScenarioError(f"offsets must be (low, high) with 0 <= low <= high (m), got {self.offsets}")
         if self.footprint not in ("hertz", "uniform"):
             raise ScenarioError(f"footprint must be 'hertz' or 'uniform', not {self.footprint!r}")
+        if self.contact_model not in CONTACT_MODELS:
+            raise ScenarioError(f"contact_model must be one of {', '.join(CONTACT_MODELS)}, not {self.contact_model!r}")
         object.__setattr__(self, "shifts", tuple(float(v) for v in self.shifts))
         object.__setattr__(self, "lateral_edges", tuple(float(v) for v in self.lateral_edges))
         self.new_surface()  # validates the grid
@@ -165,7 +169,7 @@ class WheelsetWear:
 
     def table(self, depth):
         """Contact table of the wheel worn by the lateral ``depth`` (m) on the rail, over ``shifts``."""
-        return contact_table(self.profile(depth), self.rail, y=np.asarray(self.shifts))
+        return contact_table(self.profile(depth), self.rail, y=np.asarray(self.shifts), contact_model=self.contact_model)
 
     def start(self, rng):
         """Random initial lateral displacement (m) and phase (rad)."""
@@ -408,7 +412,8 @@ class Wheelset(Body):
         model = {f.name: getattr(p.model, f.name) for f in fields(p.model) if f.name != "table"}
         return (self.seconds, self.samples, self.update_seconds, repr(model), p.wheel.y, p.wheel.z, p.rail.y,
                 p.rail.z, (p.wheel.cant, p.rail.cant), repr(p.law), p.life_distance, np.asarray(p.shifts),
-                np.asarray(p.lateral_edges), p.n_angle, p.transient, p.offsets, p.output_rate, p.footprint, p.radius)
+                np.asarray(p.lateral_edges), p.n_angle, p.transient, p.offsets, p.output_rate, p.footprint, p.radius) + (
+            () if p.contact_model == "hertz" else (p.contact_model,))  # hertz checkpoints of before stay valid
 
 
 def _seen(ds):

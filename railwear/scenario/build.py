@@ -304,7 +304,7 @@ def wheelset_wear(scenario: Scenario):
     shifts = np.round(np.linspace(-ww.shift_max_mm, ww.shift_max_mm, 2 * n + 1) * MM, 12)
     wheel, rail = profile(scenario, "wheel"), profile(scenario, "rail")
     table = contact_table(wheel, rail, y=shifts, axle_load=2 * w.static_load_kN * KN, rolling_radius=w.radius_m,
-                          youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson)
+                          youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson, contact_model=ww.contact_model)
     model = TableWheelsetModel(speed=float(speed), mass=ws.mass_kg, yaw_inertia=ws.yaw_inertia_kg_m2,
                                lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=ws.yaw_stiffness_N_m_rad,
                                table=table, friction_coefficient=c.friction_coefficient)
@@ -312,7 +312,8 @@ def wheelset_wear(scenario: Scenario):
     return WheelsetWear(model, wheel, rail, wear_law(scenario), life_distance(scenario),
                         shifts=tuple(shifts), lateral_edges=tuple(edges), n_angle=ww.angle_cells,
                         transient=ww.transient_s, offsets=(ww.offset_min_mm * MM, ww.offset_max_mm * MM),
-                        output_rate=ww.output_rate_Hz, footprint=ww.footprint)
+                        output_rate=ww.output_rate_Hz, footprint=ww.footprint,
+                        contact_model=ww.contact_model)
 
 
 def wheelset_body(scenario: Scenario):

@@ -503,6 +503,7 @@ class WheelsetWear(_Section):
     profile; ``transient_s`` run before wear is gathered; each run starts from rest at a random
     lateral offset between ``offset_min_mm`` and ``offset_max_mm`` (random sign);
     ``output_rate_Hz`` the output times of the dynamics per simulated second.
+    ``contact_model`` the tables' contact (``contact_table``): "hertz", "multi-hertz" or "semi-hertzian".
     """
 
     wheel_profile: PathText = "S1002"
@@ -518,6 +519,7 @@ class WheelsetWear(_Section):
     offset_max_mm: Annotated[float, Field(ge=0, le=50)] = 3.0
     output_rate_Hz: Annotated[float, Field(ge=1, le=1e6)] = 2000.0
     footprint: Literal["hertz", "uniform"] = "hertz"
+    contact_model: Literal["hertz", "multi-hertz", "semi-hertzian"] = "hertz"
     seconds_per_sample_s: Annotated[float, Field(gt=0, le=3600)] = 2.0
     update_interval_s: Annotated[float, Field(ge=1e-4, le=3600)] = 0.5
 
