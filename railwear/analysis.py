@@ -12,6 +12,9 @@ from railwear.errors import ScenarioError
 from railwear.units import UM, kmh_to_m_s, m_s_to_kmh
 
 FIGURES = ("wear-surface", "teeth", "fitted-h")  # paper Figs 4, 7 and 8
+WEAR_SURFACE_CELLS = (60, 720)  # Fig. 4's angle cells: panels longer than the patch, and fine enough for it
+TEETH_DRAWS = 48  # Fig. 7's Monte Carlo draws of speed and phase from the [service] distribution
+FIT_SCALES = (0.5, 1.0, 1.5, 2.0)  # build.fitted_h's default scales of the initial wheel
 FIT_DEFAULT = "stepwise"  # the built-in disk-wheel scenario of the frozen-geometry strategies
 SPEEDS_KMH = tuple(range(20, 301, 10))  # the stability map's default speeds (km/h)
 ORDERS = tuple(range(1, 31))  # and polygon orders
@@ -83,6 +86,34 @@ def fit(scenario=None, speeds_kmh=None):
     return FitResult(stats, fitted, build.with_fitted_h(sc, fitted))
 
 
+def _rigid_h(sc):
+    """The scenario's disk_contact ``h`` (the rigid disk wheel's), or None for another form or law."""
+    from railwear.scenario import build
+
+    if sc.wear_rate.form != "disk_contact":
+        return None
+    try:
+        return build.wear_rate(sc)
+    except ScenarioError:  # derived for the energy law only
+        return None
+
+
+def _turning_speed(sc, speed):
+    """The speed (m/s, a multiple of 10 km/h above ``speed``) at which the rigid disk wheel's crest
+    curvature ``u_c`` (``DiskContact.crest_curvature``) reaches half the most negative curvature of
+    Fig. 8's geometries: there the derived ``h`` has its falling branch inside the sampled range."""
+    from railwear.longterm.fitting import curvature
+    from railwear.pde import DiskContact
+    from railwear.scenario import build
+
+    h = _rigid_h(sc)
+    if not isinstance(h, DiskContact):
+        return 2 * speed
+    deepest = 0.5 * float(np.min(curvature(build.initial_state(sc) * FIT_SCALES[-1])))
+    v = h.wheel_radius * np.sqrt((h.static_load - h.saturation_load) / (h.unsprung_mass * -deepest))
+    return kmh_to_m_s(max(10 * np.ceil(m_s_to_kmh(v) / 10), 10 * np.ceil(m_s_to_kmh(speed) / 10) + 10))
+
+
 class PaperFigure(NamedTuple):
     """A figure and what it shows: the wear-intensity Dataset ('teeth'), the
     :class:`~railwear.geometry.wear_surface.WearSurface` ('wear-surface') or the statistics and
@@ -94,8 +125,8 @@ class PaperFigure(NamedTuple):
 
 def figure(name, scenario=None):
     """One of the paper's frozen-geometry figures at the mean service speed of a disk-wheel
-    scenario (default the built-in 'stepwise'): 'wear-surface' (Fig. 4, 12 turns, wear
-    accelerated 1e6 times), 'teeth' (Fig. 7, 12 turns) or 'fitted-h' (Fig. 8)."""
+    scenario (default the built-in 'stepwise'): 'wear-surface' (Fig. 4, the depth of 12 turns with
+    the Hertz patch against the cells), 'teeth' (Fig. 7, 12 turns) or 'fitted-h' (Fig. 8)."""
     from railwear import plots
     from railwear.scenario import build, load_scenario
 
@@ -104,8 +135,10 @@ def figure(name, scenario=None):
     sc = load_scenario(FIT_DEFAULT if scenario is None else scenario)
     speed = build.service_speeds(sc).mean
     if name == "fitted-h":
-        data = build.fitted_h(sc, [speed])
-        return PaperFigure(data, plots.fitted_relation(*data))
+        speeds = [speed, _turning_speed(sc, speed)]
+        data = build.fitted_h(sc, speeds, scales=FIT_SCALES)
+        reference = _rigid_h(sc)
+        return PaperFigure(data, plots.fitted_relation(*data, reference=reference))
     model, beta, band = build.disk_wheel_model(sc, speed), build.wear_law(sc).beta, build.band_width(sc)
     if beta is None:
         raise ScenarioError(f"wear.law: the paper's frozen-geometry figures use the energy law, not {sc.wear.law!r}")
@@ -114,16 +147,27 @@ def figure(name, scenario=None):
         from railwear.longterm.disk_wheel import wear_intensity
 
         data = wear_intensity(model, u0, beta, band, turns=12)
+        rng = np.random.default_rng(sc.service.seed)
+        speeds = build.service_speeds(sc).sample(rng, TEETH_DRAWS)
+        phases = rng.uniform(0.0, 2 * np.pi, TEETH_DRAWS)
+        teeth = [wear_intensity(build.disk_wheel_model(sc, v), u0, beta, band, turns=3, phase=p).tooth_depth.values[1]
+                 for v, p in zip(speeds, phases)]  # the second pass: whole, after the start
+        data = data.assign(
+            sample_tooth_depth=("sample", np.array(teeth), {"units": "m", "long_name": "depth of one whole pass per draw"}),
+            sample_speed=("sample", speeds, {"units": "m s-1", "long_name": "drawn speed"}),
+            sample_phase=("sample", phases, {"units": "rad", "long_name": "drawn starting contact angle"}))
+        data.attrs["patch_half_length"] = model.patch_half_length
         return PaperFigure(data, plots.wear_intensity(data))
     from railwear.geometry.wear_surface import WearSurface
     from railwear.longterm.disk_wheel import surface_wear
 
     b = band / 2
-    surface = WearSurface(model.radius, 180, np.linspace(-2 * b, 2 * b, 17))
-    surface, _ = surface_wear(model, u0, beta, surface, turns=12, per_turn=720, lateral_half_axis=b, acceleration=1e6)
-    title = (f"{sc.name}: depth after 12 turns, wear accelerated 1e6 times "
-             f"({m_s_to_kmh(speed):g} km/h, Hertz footprint)")
-    return PaperFigure(surface, plots.wear_surface(surface, title))
+    grids = []
+    for n_angle in WEAR_SURFACE_CELLS:
+        surface = WearSurface(model.radius, n_angle, np.linspace(-2 * b, 2 * b, 17))
+        grids.append(surface_wear(model, u0, beta, surface, turns=12, per_turn=720, lateral_half_axis=b)[0])
+    title = f"{sc.name}: depth worn in 12 turns at {m_s_to_kmh(speed):g} km/h (wear not accelerated)"
+    return PaperFigure(grids[-1], plots.wear_surface(grids[-1], title, (model.patch_half_length, b), grids[0]))
 
 
 TRACK_FREQUENCIES_HZ = (10.0, 3000.0, 600)  # the receptance's default log-spaced band (low, high, points)

@@ -9,6 +9,13 @@ from railwear.results import _atomic
 from railwear.units import HOUR, MM, MN, PM, UM, m_s_to_kmh
 
 
+def _plain_figure(width, height):
+    """A constrained-layout Figure without pyplot (headless and notebook-safe)."""
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(width, height), layout="constrained")
+
+
 def _figure(width, height, rows=1):
     # The object-oriented Figure needs no pyplot backend: headless and notebook-safe.
     from matplotlib.figure import Figure
@@ -34,9 +41,12 @@ def _title(ds, what):
 def profiles(ds):
     """Initial and final radius deviation over the angle (paper Figs 9 and 10): ``u`` itself
     (the mean radius falls) and the shape ``u - mean(u)`` on common axes (the pattern)."""
-    fig, (top, shape) = _figure(7, 6, rows=2)
+    from matplotlib.lines import Line2D
+
+    fig, (top, shape) = _figure(7, 6.5, rows=2)
     deg = np.degrees(ds.angle.values)
     rows = _rows(ds)
+    drops = []
     for i, (label, d) in enumerate(rows):
         colour = f"C{i % 10}"
         for k, style, width, when in ((0, "--", 1.0, "start"), (-1, "-", 1.5, "end")):
@@ -44,24 +54,56 @@ def profiles(ds):
             name = f"{label}, {when}" if when == "end" or i == 0 or len(rows) < 5 else None
             top.plot(deg, u, color=colour, ls=style, lw=width, label=name)
             shape.plot(deg, u - u.mean(), color=colour, ls=style, lw=width)
-    top.set(ylabel="radius deviation u (µm)", xlim=(0, 360), title=_title(ds, "radius at the start and the end"))
-    shape.set(xlabel="angle (deg)", ylabel="u - mean(u) (µm)", xlim=(0, 360), title="shape (mean removed)")
-    top.legend(fontsize="small")
+        drops.append(float(d.u.isel(time=-1).mean() - d.u.isel(time=0).mean()) / UM)
+    drop = f"{drops[0]:+.0f} µm" if len(drops) == 1 else f"{min(drops):+.0f} to {max(drops):+.0f} µm"
+    top.set(xlabel="angle (deg)", ylabel="radius deviation u (µm)", xlim=(0, 360),
+            title=_title(ds, f"radius at the start and the end (mean radius {drop})"))
+    shape.set(xlabel="angle (deg)", ylabel="u - mean(u) (µm)", xlim=(0, 360),
+              title="the shape: the same less its mean, on one axis")
+    top.legend(fontsize="small", loc="best")
+    shape.legend(handles=[Line2D([], [], color="0.3", ls="--", lw=1.0, label="start"),
+                          Line2D([], [], color="0.3", ls="-", lw=1.5, label="end")], fontsize="small", loc="best")
     return fig
 
 
-def evolution(ds):
-    """Radius deviation less its mean over angle and distance (paper Fig. 11)."""
+EVOLUTION_RANGE = 1000.0  # the order amplitudes are drawn down to the largest / 1000 (60 dB)
+
+
+def evolution(ds, orders=6):
+    """The out-of-round deviation ``u - mean(u)`` over angle and distance (paper Figs 6 and 11),
+    and beside it the amplitude of the ``orders`` largest polygon orders over distance on a log
+    axis (down to 60 dB under the largest): growing orders solid, decaying ones dashed."""
+    from railwear.geometry import bands
+
     rows = _rows(ds)
-    fig, axes = _figure(7, min(2.2 + 2.3 * len(rows), 12), len(rows))
-    for ax, (label, d) in zip(axes, rows):
+    fig = _plain_figure(11, min(2.6 + 2.6 * len(rows), 14))
+    axes = fig.subplots(len(rows), 2, squeeze=False, width_ratios=[1.15, 1])
+    along = ds.distance.values if "distance" in ds.coords else ds.time.values
+    along_label = "distance (km)" if "distance" in ds.coords else "normed time"
+    for (ax, amp_ax), (label, d) in zip(axes, rows):
         dev = (d.u - d.u.mean("angle")).values / UM
-        distance = ds.distance.values if "distance" in ds.coords else ds.time.values
-        mesh = ax.pcolormesh(np.degrees(ds.angle.values), distance, dev, shading="auto", cmap="RdBu_r",
-                             vmin=-np.max(np.abs(dev)), vmax=np.max(np.abs(dev)))
-        fig.colorbar(mesh, ax=ax, label="u - mean (µm)")
-        ax.set(xlabel="angle (deg)", ylabel="distance (km)" if "distance" in ds.coords else "normed time",
-               title=f"{label}")
+        limit = float(np.max(np.abs(dev))) or 1.0
+        mesh = ax.pcolormesh(np.degrees(ds.angle.values), along, dev, shading="nearest", edgecolors="none",
+                             cmap="RdBu_r", vmin=-limit, vmax=limit)
+        fig.colorbar(mesh, ax=ax, label="u - mean(u) (µm)")
+        ax.set(xlabel="angle (deg)", ylabel=along_label, xlim=(0, 360), title=f"{label}: shape over the run")
+        n, amp = bands.order_amplitudes(d.u.values)
+        amp = amp / UM
+        leading = np.argsort(amp.max(0))[::-1][:orders]
+        peak = float(amp.max()) or 1.0
+        floor = peak / EVOLUTION_RANGE
+        for j, k in enumerate(sorted(leading, key=lambda k: -amp[-1, k])):
+            ratio = amp[-1, k] / amp[0, k] if amp[0, k] > 0 else np.inf
+            said = f"x{ratio:.3g}" if amp[0, k] >= floor else f"from under {floor:.2g} µm"
+            amp_ax.plot(along, np.maximum(amp[:, k], floor), color=f"C{j % 10}", lw=1.4,
+                        ls="-" if ratio >= 1 else "--", label=f"order {n[k]}: {said}")
+        amp_ax.set_yscale("log")
+        amp_ax.set_ylim(floor / 1.3, peak * 1.6)
+        amp_ax.yaxis.set_major_formatter(lambda v, _: f"{v:g}")
+        amp_ax.yaxis.set_minor_formatter(lambda v, _: f"{v:g}" if f"{v:.0e}"[0] in "25" else "")
+        amp_ax.set(xlabel=along_label, ylabel="amplitude per order (µm)",
+                   title=f"the {len(leading)} largest orders: solid grow, dashed decay")
+        amp_ax.legend(fontsize="x-small", ncol=2, title="end / start", title_fontsize="x-small")
     fig.suptitle(_title(ds, "evolution of the out-of-round deviation"))
     return fig
 
@@ -430,20 +472,79 @@ def lateral_motion(ds):
     return fig
 
 
-def contact_path(ds):
-    """Contact point (paper Fig. 2) and frictional power (Fig. 3) over the wheel's angle and time."""
-    fig, (path, power) = _figure(7, 7, 2)
+def _revolutions(contact_angle):
+    """Revolution index (0, 1, ...) and angle on the wheel (rad, [0, 2π)) of each sample of a
+    contact angle that runs round the wheel."""
+    total = np.unwrap(np.asarray(contact_angle, float))
+    total = total - 2 * np.pi * np.floor(total[0] / (2 * np.pi))
+    return np.floor(total / (2 * np.pi)).astype(int), np.mod(total, 2 * np.pi)
+
+
+def _per_revolution(ax, angle, values, revolution, **style):
+    """One line per revolution over the angle (deg), coloured from early to late; returns the lines."""
+    from matplotlib import colormaps
+
+    turns = np.unique(revolution)
+    colours = colormaps["viridis"](np.linspace(0, 0.85, turns.size))
+    lines = []
+    for colour, k in zip(colours, turns):
+        pick = revolution == k
+        label = f"revolution {k + 1}" if turns.size <= 8 or k in (turns[0], turns[-1]) else None
+        lines += ax.plot(np.degrees(angle[pick]), values[pick], color=colour, label=label, **style)
+    return lines
+
+
+def contact_path(ds, bins=180):
+    """The contact point (paper Fig. 2) and the frictional power (Fig. 3) over the angle on the
+    wheel, revolution by revolution: the contact point's deviation from rigid rotation ``R0 (φ -
+    V t / R0)`` (mm of tread), the same less its mean creep drift (µm: the short-time dynamics),
+    and the frictional power (W) over angle × revolution in ``bins`` angle cells."""
+    from matplotlib.figure import Figure
+
     d = ds.isel(speed=0) if ds.speed.ndim else ds
-    angle = np.degrees(np.mod(d.contact_angle.values, 2 * np.pi))
+    speed = float(np.atleast_1d(ds.speed.values)[0])
+    radius = float(ds.attrs.get("model_radius", 1.0))
+    revolution, angle = _revolutions(d.contact_angle.values)
     t = d.time.values
-    path.scatter(angle, t, s=2)
-    path.set(xlabel="contact angle on the wheel (deg)", ylabel="time (s)", xlim=(0, 360),
-             title="contact point over angle and time")
-    mesh = power.scatter(angle, t, c=d.frictional_power.values, s=4, cmap="inferno")
+    if "rotation_deviation" in d:
+        rotation = d.rotation_deviation.values
+    else:  # a file without it: the contact angle less rigid rotation (its mean rate when R0 is unknown)
+        total = np.unwrap(d.contact_angle.values)
+        rigid = speed * t / radius if "model_radius" in ds.attrs else np.polyval(np.polyfit(t, total, 1), t)
+        rotation = total - total[0] - rigid
+    deviation = radius * rotation  # m of tread
+    drift = np.polyval(np.polyfit(t, deviation, 1), t)  # the mean creep: a steady slip of the wheel
+    slip = np.polyfit(t, deviation, 1)[0] / speed
+    fig = Figure(figsize=(7.5, 9.5), layout="constrained")
+    path, dynamic, power = fig.subplots(3, 1)
+    _per_revolution(path, angle, deviation / MM, revolution, lw=1.2)
+    path.set(xlabel="contact angle on the wheel (deg)", ylabel="R0 (φ - V t / R0) (mm of tread)", xlim=(0, 360),
+             title="contact point: deviation from rigid rotation (paper Fig. 2)")
+    path.legend(fontsize="small", ncol=2, title=f"mean creepage {slip:.2e}", title_fontsize="small",
+                loc="lower right")
+    _per_revolution(dynamic, angle, (deviation - drift) / UM, revolution, lw=1.2)
+    dynamic.axhline(0.0, color="0.5", lw=0.8, ls=":", label="rigid rotation with the mean creep")
+    dynamic.set(xlabel="contact angle on the wheel (deg)", ylabel="deviation less the mean creep (µm of tread)",
+                xlim=(0, 360), title="the same less the mean creep drift: oscillations of the short-time dynamics")
+    low, high = dynamic.get_ylim()
+    dynamic.set_ylim(low, high + 0.45 * (high - low))  # room for the legend above the lines
+    dynamic.legend(fontsize="small", ncol=3, loc="upper center")
+    turns = np.unique(revolution)
+    cell = np.minimum((angle / (2 * np.pi) * bins).astype(int), bins - 1)
+    grid = np.full((turns.size, bins), np.nan)
+    for row, k in enumerate(turns):
+        pick = revolution == k
+        total = np.bincount(cell[pick], d.frictional_power.values[pick], bins)
+        count = np.bincount(cell[pick], minlength=bins)
+        grid[row] = np.where(count > 0, total / np.maximum(count, 1), np.nan)
+    mesh = power.pcolormesh(np.linspace(0, 360, bins + 1), np.arange(turns.size + 1) + turns[0] + 0.5, grid,
+                            shading="flat", edgecolors="none", cmap="inferno")
     fig.colorbar(mesh, ax=power, label="frictional power (W)")
-    power.set(xlabel="contact angle on the wheel (deg)", ylabel="time (s)", xlim=(0, 360),
-              title="frictional power over angle and time")
-    fig.suptitle(f"disk wheel at {m_s_to_kmh(float(np.atleast_1d(ds.speed.values)[0])):g} km/h")
+    power.set(xlabel="contact angle on the wheel (deg)", ylabel="revolution", xlim=(0, 360),
+              title=f"frictional power over angle × revolution (paper Fig. 3), {360 / bins:g} deg cells")
+    power.yaxis.get_major_locator().set_params(integer=True)
+    fig.suptitle(f"{ds.attrs.get('scenario_name', 'disk wheel')}: contact point and frictional power at "
+                 f"{m_s_to_kmh(speed):g} km/h, R0 = {radius * 1e3:g} mm")
     return fig
 
 
@@ -462,44 +563,198 @@ def bifurcation(ds):
     return fig
 
 
+def _complete_teeth(ds):
+    """Indices of the passes of a wear-intensity Dataset that are whole (not the first or last)."""
+    return np.arange(1, ds.sizes["tooth"] - 1) if ds.sizes["tooth"] > 2 else np.arange(ds.sizes["tooth"])
+
+
 def wear_intensity(ds):
-    """Wear intensity against time at a fixed position on the wheel (paper Fig. 7)."""
-    fig, (ax,) = _figure(7, 3.5)
-    ax.plot(ds.time.values, ds.wear_intensity.values / UM * HOUR, lw=0.8)
+    """Wear intensity at a fixed position on the wheel (paper Fig. 7): the depth rate over the
+    turns (µm/h), one tooth zoomed (ms), and the integrals of the teeth (pm): the distribution
+    over the Monte Carlo draws of speed and phase (``sample_tooth_depth``, ``sample_speed``) that
+    the stepwise strategy samples, against the identical teeth of one speed."""
+    fig = _plain_figure(7.5, 9.0)
+    mosaic = fig.subplot_mosaic([["turns", "turns"], ["tooth", "tooth"], ["histogram", "speed"]])
+    t, rate = ds.time.values, ds.wear_intensity.values / UM * HOUR
     teeth = ds.tooth_depth.values / PM
+    speed = m_s_to_kmh(float(ds.attrs["speed"]))
+    where = f"{np.degrees(ds.attrs['position_rad']):g} deg"
+    ax = mosaic["turns"]
+    ax.plot(t, rate, lw=0.8, color="C0", label=f"depth rate at {where}, {speed:g} km/h")
     ax.set(xlabel="time (s)", ylabel="depth rate (µm/h)",
-           title=f"wear intensity at {np.degrees(ds.attrs['position_rad']):g} deg over {teeth.size} passes "
-                 f"({m_s_to_kmh(float(ds.attrs['speed'])):g} km/h); teeth {teeth.min():.3g}-{teeth.max():.3g} pm each")
+           title=f"{teeth.size} passes of the patch over the position in {t[-1]:.2f} s: one tooth each")
+    ax.legend(fontsize="small", loc="upper right")
+    whole = _complete_teeth(ds)
+    k = int(whole[np.argmin(np.abs(teeth[whole] - np.median(teeth[whole])))])
+    covered = ds.wear_intensity.values > 0
+    passes = np.cumsum(np.diff(covered.astype(int), prepend=0) == 1) * covered
+    pick = np.nonzero(passes == k + 1)[0]
+    pick = np.arange(max(pick[0] - pick.size // 2, 0), min(pick[-1] + pick.size // 2 + 1, t.size))
+    zoom = mosaic["tooth"]
+    ms = (t[pick] - t[pick[0]]) * 1e3
+    zoom.plot(ms, rate[pick], color="C0", lw=1.2, label="depth rate")
+    zoom.fill_between(ms, rate[pick], color="C0", alpha=0.25, label=f"its integral: {teeth[k]:.4g} pm")
+    zoom.set(xlabel=f"time from {t[pick[0]]:.4f} s (ms)", ylabel="depth rate (µm/h)",
+             title=f"tooth {k + 1} zoomed: the patch ({2e3 * float(ds.attrs.get('patch_half_length', np.nan)):.3g} mm) "
+                   "passing the position" if "patch_half_length" in ds.attrs else f"tooth {k + 1} zoomed")
+    zoom.legend(fontsize="small", loc="lower center")
+    hist, by_speed = mosaic["histogram"], mosaic["speed"]
+    if "sample_tooth_depth" in ds:
+        drawn = ds.sample_tooth_depth.values / PM
+        spread = float(np.std(drawn, ddof=1))
+        hist.hist(drawn, bins=max(5, min(20, drawn.size // 3)), color="C1", alpha=0.8,
+                  label=f"{drawn.size} draws: mean {drawn.mean():.4g} pm,\nstandard deviation {spread:.2g} pm")
+        hist.axvline(float(np.mean(teeth[whole])), color="C0", lw=1.5, ls="--",
+                     label=f"the {whole.size} whole teeth above\n(spread {np.ptp(teeth[whole]):.1g} pm)")
+        hist.set(xlabel="tooth integral (pm of depth)", ylabel="draws",
+                 title="the teeth's integrals over service")
+        hist.legend(fontsize="x-small", loc="upper left")
+        by_speed.plot(m_s_to_kmh(ds.sample_speed.values), drawn, "o", ms=3, color="C1", label="draw")
+        by_speed.plot([speed], [np.mean(teeth[whole])], "s", ms=6, color="C0", label=f"the run above, {speed:g} km/h")
+        by_speed.set(xlabel="drawn speed (km/h)", ylabel="tooth integral (pm)", title="against the drawn speed")
+        by_speed.legend(fontsize="x-small")
+    else:
+        for ax in (hist, by_speed):
+            ax.text(0.5, 0.5, "no Monte Carlo draws in this Dataset", ha="center", va="center", transform=ax.transAxes)
+            ax.set_axis_off()
+    fig.suptitle(f"wear intensity at a fixed position on the wheel ({where}), paper Fig. 7")
     return fig
 
 
-def fitted_relation(stats, fit):
-    """Mean wear rate against the local curvature with the fitted ``h`` (paper Fig. 8)."""
-    fig, (ax,) = _figure(7, 4.5)
+RISING, FALLING = "-", "--"  # line styles of the branches of h: ∂h/∂u_xx > 0 (smoothing) and < 0 (ill-posed)
+
+
+def _branches(ax, s, h, colour, width=1.5):
+    """Draw ``h`` (mm per life) over the curvature ``s`` (mm/rad²) solid where it rises and
+    dashed where it falls; returns the curvatures (mm/rad²) where it turns."""
+    rising = np.gradient(h, s) >= 0
+    cuts = np.nonzero(np.diff(rising.astype(int)))[0] + 1
+    for piece in np.split(np.arange(s.size), cuts):
+        piece = np.arange(max(piece[0] - 1, 0), piece[-1] + 1)  # join the pieces
+        ax.plot(s[piece], h[piece], color=colour, lw=width, ls=RISING if rising[piece[-1]] else FALLING)
+    ax.plot(s[cuts], h[cuts], "x", ms=8, mew=2, color=colour)
+    return s[cuts]
+
+
+def _shape(turns, rises):
+    """How a curve over the sampled curvature runs, in words."""
+    if turns.size:
+        return "non-monotone, turns at u_xx = " + ", ".join(f"{t:.1f}" for t in turns) + " mm/rad²"
+    return "monotone: rising (smoothing)" if rises else "monotone: falling (ill-posed)"
+
+
+def fitted_relation(stats, fit, reference=None, reference_speeds=None):
+    """Mean wear rate against the local curvature with the fitted ``h`` (paper Fig. 8), its
+    rising branches solid and its falling ones dashed, each speed said monotone or not. With
+    ``reference`` (an ``h(s, speed=v)`` in m per unit normed time, such as the disk_contact form)
+    a second panel draws it at ``reference_speeds`` (m/s, default the statistics') over the
+    curvature range down past each speed's ``crest_curvature`` where the form has one."""
+    from matplotlib.lines import Line2D
+
+    fig, axes = _figure(7.5, 9 if reference is not None else 5.2, rows=2 if reference is not None else 1)
+    ax = axes[0]
     life = 1 / MM  # m per normed life -> mm
-    for i, v in enumerate(np.atleast_1d(stats.speed.values)):
+    speeds = np.atleast_1d(stats.speed.values)
+    handles = []
+    for i, v in enumerate(speeds):
         colour = f"C{i % 10}"
         s = stats.curvature.values[i].ravel()
-        ax.scatter(s / MM, stats.rate.values[i].ravel() * life, s=3, alpha=0.25, color=colour)
+        ax.scatter(s / MM, stats.rate.values[i].ravel() * life, s=3, alpha=0.2, color=colour)
         ax.errorbar(fit.bin_curvature[i] / MM, fit.bin_rate[i] * life, yerr=fit.bin_error[i] * life, fmt="o",
-                    ms=4, color=colour, label=f"{m_s_to_kmh(v):g} km/h, bin means (reduced chi² {fit.chi2[i]:.2f})")
-        grid = np.linspace(s.min(), s.max(), 200)
-        ax.plot(grid / MM, fit(grid, i) * life, color=colour, lw=1.5)
+                    ms=4, color=colour)
+        grid = np.linspace(fit.bin_curvature[i].min(), fit.bin_curvature[i].max(), 400)  # where the bins are
+        values = fit(grid, i)
+        turns = _branches(ax, grid / MM, values * life, colour)
+        handles.append(Line2D([], [], color=colour, marker="o", ms=4,
+                              label=f"{m_s_to_kmh(v):g} km/h: fit {_shape(turns, values[-1] > values[0])}; "
+                                    f"bin means, reduced χ² {fit.chi2[i]:.2f}"))
+    style = [Line2D([], [], color="0.3", ls=RISING, label="∂h/∂u_xx > 0: smoothing"),
+             Line2D([], [], color="0.3", ls=FALLING, label="∂h/∂u_xx < 0: ill-posed"),
+             Line2D([], [], color="0.3", ls="none", marker="x", mew=2, label="turning point"),
+             Line2D([], [], color="0.3", ls="none", marker=".", alpha=0.4, label="cells (one frozen geometry each)")]
     ax.set(xlabel="curvature u_xx (mm/rad²)", ylabel="u_T (mm per life)",
-           title="frozen-geometry wear against the local curvature, with the fitted h")
-    ax.legend(fontsize="small")
+           title="frozen-geometry statistics against the local curvature, with the fitted h")
+    ax.legend(handles=handles + style, fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=1)
+    if reference is None:
+        return fig
+    ref = axes[1]
+    speeds = speeds if reference_speeds is None else np.atleast_1d(np.asarray(reference_speeds, float))
+    low = float(np.min(stats.curvature.values))
+    crest = getattr(reference, "crest_curvature", None)
+    handles = []
+    for i, v in enumerate(speeds):
+        colour = f"C{i % 10}"
+        u_c = float(crest(v)) if crest is not None else -np.inf
+        bottom = min(low, 1.6 * u_c) if np.isfinite(u_c) else low
+        grid = np.linspace(bottom, float(np.max(stats.curvature.values)), 600)
+        values = reference(grid, speed=v)
+        turns = _branches(ref, grid / MM, values * life, colour)
+        said = f"{m_s_to_kmh(v):g} km/h: {_shape(turns, values[-1] > values[0])}"
+        if np.isfinite(u_c):
+            ref.axvline(u_c / MM, color=colour, lw=0.8, ls=":")
+            said += f"; crest unloads to F/μ at u_c = {u_c / MM:.1f} mm/rad² (dotted)"
+        handles.append(Line2D([], [], color=colour, label=said))
+    ref.axvspan(low / MM, float(np.max(stats.curvature.values)) / MM, color="0.92", zorder=0,
+                label="curvatures the statistics sample")
+    ref.set(xlabel="curvature u_xx (mm/rad²)", ylabel="h (mm per life)",
+            title=f"the derived h of a rigid disk wheel ({type(reference).__name__}), same wheel and load")
+    ref.legend(handles=handles + style[:3] + [ref.patches[-1]], fontsize="x-small", loc="upper center",
+               bbox_to_anchor=(0.5, -0.14))
     return fig
 
 
-def wear_surface(surface, title="wear surface"):
-    """Removed depth over the angle x lateral grid of a :class:`~railwear.geometry.WearSurface`
-    (paper Fig. 4)."""
-    fig, (ax,) = _figure(7, 3.5)
-    edges_x = np.degrees(np.linspace(0, 2 * np.pi, surface.n_angle + 1))
-    mesh = ax.pcolormesh(edges_x, surface.lateral_edges / MM, surface.depth.T / UM, cmap="viridis",
-                         edgecolors="w", linewidth=0.1 if surface.n_angle <= 180 else 0)
-    fig.colorbar(mesh, ax=ax, label="removed depth (µm)")
-    ax.set(xlabel="angle round the wheel (deg)", ylabel="lateral position (mm)", title=title)
+def _depth_unit(depth):
+    """``(metres per unit, unit)`` that shows a depth (m) with a few digits: nm, µm or mm."""
+    top = float(np.max(np.abs(depth), initial=0.0))
+    return (1e-9, "nm") if top < 1e-6 else (UM, "µm") if top < 1e-3 else (MM, "mm")
+
+
+def wear_surface(surface, title="wear surface", patch=None, coarse=None, window_cells=1.5):
+    """Removed depth over the angle × lateral grid of a :class:`~railwear.geometry.WearSurface`
+    (paper Fig. 4): the whole surface, and at true scale (mm of tread) round its deepest cell the
+    cell edges and, given ``patch = (a, b)`` (m, the semi-axes along and across), the Hertz contact
+    patch against them; a ``coarse`` surface of the same run is drawn so as well, over
+    ``± window_cells`` of its cells."""
+    from matplotlib.patches import Ellipse
+
+    grids = [g for g in (coarse, surface) if g is not None]
+    fig = _plain_figure(7.5, 2.9 + 1.9 * len(grids))
+    axes = fig.subplots(1 + len(grids), 1, height_ratios=[2.2] + [1.0] * len(grids))
+    whole, zooms = axes[0], axes[1:]
+    scale, unit = _depth_unit(surface.depth)
+    top = max(float(np.max(g.depth)) for g in grids) / scale or 1.0
+    lateral = surface.lateral_edges / MM
+    image = whole.imshow(surface.depth.T / scale, origin="lower", extent=(0, 360, lateral[0], lateral[-1]),
+                         aspect="auto", interpolation="nearest", cmap="viridis", vmin=0, vmax=top)
+    whole.set(xlabel="angle round the wheel (deg)", ylabel="lateral position (mm)",
+              title=f"{surface.n_angle} × {surface.lateral_edges.size - 1} cells, at most "
+                    f"{surface.depth.max() / scale:.3g} {unit}")
+    span = window_cells * grids[0].circumference / grids[0].n_angle / MM  # mm either side
+    deepest = float(surface.angle[int(np.argmax(surface.depth.sum(1)))])
+    handles = []
+    for ax, grid in zip(zooms, grids):
+        cell = grid.circumference / grid.n_angle / MM  # mm of tread per angle cell
+        edges = grid.circumference / (2 * np.pi) * (np.arange(grid.n_angle + 1) * 2 * np.pi / grid.n_angle) / MM
+        centre = grid.radius * deepest / MM
+        keep = np.nonzero((edges[1:] > centre - span) & (edges[:-1] < centre + span))[0]
+        x = edges[np.append(keep, keep[-1] + 1)] - centre
+        ax.pcolormesh(x, grid.lateral_edges / MM, grid.depth[keep].T / scale, shading="flat", edgecolors="none",
+                      cmap="viridis", vmin=0, vmax=top)
+        handles = [ax.vlines(x, lateral[0], lateral[-1], color="w", lw=1.0, label="cell edges (the panels)")]
+        ax.hlines(grid.lateral_edges / MM, x[0], x[-1], color="w", lw=0.4)
+        said = f"{grid.n_angle} cells round the wheel, {cell:.1f} mm each"
+        if patch is not None:
+            a, b = (float(v) for v in patch)
+            handles.append(ax.add_patch(Ellipse((0.0, 0.0), 2 * a / MM, 2 * b / MM, fill=False, color="C3", lw=2,
+                                                label=f"Hertz contact patch, {2 * a / MM:.1f} × {2 * b / MM:.1f} mm")))
+            said += f": the patch is {2 * a / MM / cell:.2g} cells long"
+        ax.set_xlim(-span, span)
+        ax.set_aspect("equal")
+        ax.set(ylabel="lateral (mm)", title=said,
+               xlabel=f"along the tread from the deepest cell at {np.degrees(deepest):.0f} deg (mm), to scale")
+    fig.colorbar(image, ax=list(axes), label=f"removed depth ({unit})", shrink=0.6)
+    fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize="small", facecolor="0.85")
+    fig.suptitle(title)
     return fig
 
 
