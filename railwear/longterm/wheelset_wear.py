@@ -12,6 +12,16 @@ wheelset's shift), centred at the contact position the table gives and swept alo
 circumference over the angle the wheel turned in that interval (at the axle's quasi-static spin
 ``2 V / (r_L + r_R)``). The removed volume equals ``β ∫ P dt`` to round-off.
 
+``contact_model`` (``"hertz"``, ``"multi-hertz"``, ``"semi-hertzian"``, :func:`contact_table`)
+chooses the tables. On ``"hertz"`` (one rigid point per wheel) the wear goes under the table's
+ellipse at the dynamics' contact position as above. On the other two a wheel has several contacts
+sharing its load and the dynamics read their resultant; the wear rate at each output is shared
+between the table's two shifts around the wheelset's (linear-interpolation weights) and between
+each shift's contacts by ``point_creep_share``, and each contact's part is put down at its own
+``point_wheel_y`` under its own ellipse (``point_a``, ``point_b``; semi-hertzian: the patch's
+equivalent ellipse, half its width across), so the wear lands on the contacts, not on the
+resultant's position between them.
+
 Feedback ("the contact geometry sees u"): after each long-term step the wheel profile is worn by
 the angle-averaged depth over ``s``, averaged over the two wheels (the contact table is built for
 a symmetric wheelset; under hunting and random starts the two wheels wear alike), the contact
@@ -219,7 +229,10 @@ class WheelsetWear:
         ``ds`` on ``table`` (energy law: ``β ∫ P dt``; another law: the trapezoidal integral of its
         rate at the outputs, the patch area ``π a b`` from the table), the wheel angle starting at
         ``phase`` (rad) and turning at ``2 V / (r_L + r_R)`` (the axle's quasi-static spin, radii
-        from the table). Returns the volume added (m³), the law's volume (m³) and the end angle (rad)."""
+        from the table). A table of one contact per wheel (``"hertz"``) puts it under the resultant's
+        footprint at the contact position of the dynamics; a table of several
+        (:meth:`point_volumes`) under each point's own. Returns the volume added (m³), the law's
+        volume (m³) and the end angle (rad)."""
         t = ds.time.values
         shift = -0.5 * (ds.lateral_displacement.values[1:] + ds.lateral_displacement.values[:-1])  # table y: right
         at = {(wheel, v): np.interp(shift, table.y.values, table[v].sel(side=wheel).values)
@@ -228,6 +241,12 @@ class WheelsetWear:
         angle = phase + np.concatenate([[0.0], np.cumsum(turned)])
         added = law = 0.0
         for surface, wheel in zip(surfaces, WHEELS):
+            if "point_creep_share" in table:
+                interval, volume, position, a, b = self.point_volumes(ds, table, wheel, factor)
+                added += sweep_deposit(surface, volume, angle[interval], angle[interval + 1], position, a, b,
+                                       self.footprint)
+                law += float(volume.sum())
+                continue
             power = ds.frictional_power.sel(wheel=wheel).values
             if self.beta is not None:
                 volume = factor * self.beta * 0.5 * (power[1:] + power[:-1]) * np.diff(t)
@@ -241,6 +260,40 @@ class WheelsetWear:
             law += float(volume.sum())
         return added, law, float(angle[-1])
 
+    def point_volumes(self, ds, table, wheel, factor=1.0):
+        """The wear of ``wheel`` over the run ``ds`` on a table of several contacts per wheel, per
+        contact point: at every output the wheel's wear rate is shared between the table's two
+        shifts around the wheelset's (linear-interpolation weights) and at each shift between its
+        points by ``point_creep_share`` (energy law: ``β P share``; another law: its rate of the
+        point's ``share P``, ``point_normal_force`` and patch ``π point_a point_b``, the wheel's
+        sliding speed), and integrated over each output interval (trapezoidal). Returns, one per
+        loaded point and interval end, the interval's index, the volume (m³, times ``factor``), the
+        point's ``point_wheel_y`` and its ``point_a``, ``point_b`` (m), which :meth:`deposit`
+        puts down; their volumes sum to the law's over the run."""
+        node, weight = _brackets(table.y.values, -ds.lateral_displacement.values)  # (time, 2)
+        share, y, a, b, force = (table[f"point_{v}"].sel(side=wheel).values[node]  # (time, 2, point)
+                                 for v in ("creep_share", "wheel_y", "a", "b", "normal_force"))
+        power = ds.frictional_power.sel(wheel=wheel).values[:, None, None] * share
+        if self.beta is not None:
+            rate = self.beta * power
+        else:
+            slip = np.hypot(ds.longitudinal_creepage.sel(wheel=wheel).values,
+                            ds.lateral_creepage.sel(wheel=wheel).values)
+            v = self.model.speed
+            rate = self.law.volume_rate_of(ContactSample(
+                power, force, np.broadcast_to(v * slip[:, None, None], power.shape), np.full(power.shape, v),
+                np.where(force > 0, np.pi * a * b, 0.0)))
+        rate = rate * weight[:, :, None]
+        half = factor * 0.5 * np.diff(ds.time.values)[:, None, None]
+        volume = np.stack([half * rate[:-1], half * rate[1:]], 1)  # (interval, end, 2, point)
+        same = (node[1:, 0] == node[:-1, 0])[:, None, None]  # both ends between the same shifts: one deposit
+        volume = np.stack([volume[:, 0] + np.where(same, volume[:, 1], 0.0), np.where(same, 0.0, volume[:, 1])], 1)
+        interval = np.broadcast_to(np.arange(half.size)[:, None, None, None], volume.shape)
+        y, a, b = (np.stack([v[:-1], v[1:]], 1) for v in (y, a, b))
+        keep = volume != 0  # a negative or NaN volume reaches sweep_deposit, which refuses it
+        if not np.all(np.isfinite(y[keep])):
+            raise ScenarioError(f"the contact table has wear on a point without a position ({wheel} wheel)")
+        return interval[keep], volume[keep], y[keep], a[keep], b[keep]
 
 @dataclass(frozen=True)
 class Wheelset(Body):
@@ -287,7 +340,7 @@ class Wheelset(Body):
             per_life = p.life_distance / (p.model.speed * self.seconds)
             rates.append(np.stack([s.depth for s in surfaces]) * per_life)
             law.append(volume * per_life)
-            lo, hi, amplitude = _seen(ds)
+            lo, hi, amplitude = _seen(ds, table)
             seen = (min(seen[0], lo), max(seen[1], hi), max(seen[2], amplitude))
         return np.array(rates), np.array(law), seen, cost
 
@@ -351,7 +404,7 @@ class Wheelset(Body):
         segment = (p.new_surface(), p.new_surface())
         _, volume, phase = p.deposit(segment, ds, self.table, carry["phase"], acceleration)
         carry = {"state": state, "offset": carry["offset"], "phase": phase}
-        return np.stack([s.depth for s in segment]), seconds * per_second, last, volume, _seen(ds), carry
+        return np.stack([s.depth for s in segment]), seconds * per_second, last, volume, _seen(ds, self.table), carry
 
     def record(self, u, seen, law_volume):
         p = self.problem
@@ -416,7 +469,27 @@ class Wheelset(Body):
             () if p.contact_model == "hertz" else (p.contact_model,))  # hertz checkpoints of before stay valid
 
 
-def _seen(ds):
-    """Smallest and largest contact lateral position and largest |y| (m) of a run."""
-    position = ds.contact_lateral_position.values
-    return float(position.min()), float(position.max()), float(np.abs(ds.lateral_displacement.values).max())
+def _brackets(y, shift):
+    """The table nodes around each ``shift`` (m, clipped to the table, as ``np.interp``) and their
+    linear-interpolation weights: indices and weights of shape ``shift.shape + (2,)``."""
+    if y.size == 1:
+        return np.zeros(shift.shape + (2,), int), np.stack([np.ones_like(shift), np.zeros_like(shift)], -1)
+    x = np.clip(shift, y[0], y[-1])
+    lo = np.clip(np.searchsorted(y, x, side="right") - 1, 0, y.size - 2)
+    w = (x - y[lo]) / (y[lo + 1] - y[lo])
+    return np.stack([lo, lo + 1], -1), np.stack([1 - w, w], -1)
+
+
+def _seen(ds, table=None):
+    """Smallest and largest contact lateral position and largest |y| (m) of a run: of the dynamics'
+    contact, or on a table of several contacts per wheel, of every loaded point at the table's
+    shifts around the run's."""
+    amplitude = float(np.abs(ds.lateral_displacement.values).max())
+    if table is None or "point_creep_share" not in table:
+        position = ds.contact_lateral_position.values
+        return float(position.min()), float(position.max()), amplitude
+    node, weight = _brackets(table.y.values, -ds.lateral_displacement.values)
+    used = np.unique(node[weight > 0])
+    share, y = (table[v].values[used] for v in ("point_creep_share", "point_wheel_y"))
+    position = y[share > 0]
+    return float(position.min()), float(position.max()), amplitude
