@@ -137,6 +137,7 @@ SMOOTHING_DECAY = 0.5  # out-of-round rms falls below half: smoothing
 ONSET_GROWTH = 1.1  # out-of-round rms grows by 10 %: onset ...
 ORDER_ONSET_GROWTH = 1.5  # ... or an order present at the start grows 1.5x, by more than 2 standard errors
 PRESENT = 0.1  # an order is present at the start with at least this share of the largest amplitude
+SEEDED = 0.01  # ... and seeded with at least this share (not made from nothing by the nonlinearity)
 
 
 def growth(times, deviation):
@@ -145,8 +146,9 @@ def growth(times, deviation):
     out-of-round rms per unit time and its standard error), ``rms_factor`` (``exp(rate T)`` over
     the run), ``order_rate`` and ``order_rate_error`` per order ``1..N/2-1`` (``nan`` where an
     amplitude vanishes), ``present`` (orders present at the start), ``leading_order`` (the
-    present order that grows fastest) with its ``leading_factor``, and ``leading_dominant``, whether
-    it is the largest harmonic at the end."""
+    present order that grows fastest) with its ``leading_factor``, and the largest harmonic at the
+    end's ``dominant_factor`` (``exp(rate T)``) and ``dominant_significant`` (its growth beyond 2
+    standard errors, from a start of at least ``SEEDED`` of the largest amplitude)."""
     d = np.asarray(deviation, float)
     t = np.asarray(times, float)
     span = t[-1] - t[0]
@@ -158,17 +160,20 @@ def growth(times, deviation):
     present = start >= PRESENT * start.max() if start.max() > 0 else np.zeros(start.size, bool)
     candidates = np.where(present & np.isfinite(order_rate), order_rate, -np.inf)
     k = int(np.argmax(candidates))
+    j = int(np.argmax(amp[-1]))
     return {"rms_rate": float(rate[0]), "rms_rate_error": float(rate_error[0]),
             "rms_factor": float(np.exp(rate[0] * span)), "order_rate": order_rate, "order_rate_error": order_error,
             "present": present, "leading_order": k + 1 if np.isfinite(candidates[k]) else 0,
             "leading_factor": float(np.exp(candidates[k] * span)) if np.isfinite(candidates[k]) else 0.0,
             "leading_significant": bool(np.isfinite(candidates[k]) and candidates[k] > 2 * order_error[k]),
-            "leading_dominant": bool(np.argmax(amp[-1]) == k)}
+            "dominant_factor": float(np.exp(order_rate[j] * span)) if np.isfinite(order_rate[j]) else 0.0,
+            "dominant_significant": bool(np.isfinite(order_rate[j]) and order_rate[j] > 2 * order_error[j]
+                                         and start[j] >= SEEDED * start.max())}
 
 
-REGIME_RULE = ("polygonalising when the out-of-round rms grows 3x over the run, or an order present at the "
-               "start grows 3x (by more than 2 standard errors) to the largest harmonic at the end; smoothing "
-               "when the rms falls "
+REGIME_RULE = ("polygonalising when the out-of-round rms grows 3x over the run, or the largest harmonic at "
+               "the end, seeded at the start with 1 % of the largest amplitude, has grown 3x (by more than 2 "
+               "standard errors of its fitted rate); smoothing when the rms falls "
                "below half, onset when it grows by 10 % or an order present at the start grows 1.5x "
                "(by more than 2 standard errors of its fitted rate), else stable")
 
@@ -177,8 +182,7 @@ def regime(g):
     """The regime from :func:`growth`'s ``g``: :data:`REGIME_RULE`."""
     if not np.isfinite(g["rms_factor"]):
         return "stable"
-    if g["rms_factor"] >= POLYGONAL_GROWTH or (g["leading_significant"] and g["leading_dominant"]
-                                                and g["leading_factor"] >= POLYGONAL_GROWTH):
+    if g["rms_factor"] >= POLYGONAL_GROWTH or (g["dominant_significant"] and g["dominant_factor"] >= POLYGONAL_GROWTH):
         return "polygonalising"
     if g["rms_factor"] < SMOOTHING_DECAY:
         return "smoothing"
