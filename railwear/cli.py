@@ -36,13 +36,41 @@ def _announce_compiling(ctx: typer.Context, version: Annotated[bool, typer.Optio
     from numba.core import event
 
     class Notice(event.Listener):
-        def on_start(self, _):  # a cache miss: numba loads cached kernels without this event
+        """The first compile prints the notice; then, on a terminal, the progress bar (or a status
+        line) names the kernel compiling and counts those done; in a log, one line per kernel
+        that took 2 s or more."""
+
+        depth, done, started = 0, 0, []
+
+        def on_start(self, ev):  # a cache miss: numba loads cached kernels without this event
             if not _compile_notice["printed"]:
                 _compile_notice["printed"] = True
                 typer.echo("compiling kernels (first run only)...", err=True)
+            self.depth += 1
+            if self.depth == 1:
+                import time
 
-        def on_end(self, _):
-            """Nothing to say when a compile ends (numba's Listener wants both hooks)."""
+                self.started = [getattr(ev.data.get("dispatcher"), "__name__", "kernel").lstrip("_"), time.monotonic()]
+                self.show(f"compiling {self.started[0]} ({self.done} kernels done)")
+
+        def on_end(self, ev):
+            self.depth -= 1
+            if self.depth == 0:
+                import time
+
+                self.done += 1
+                seconds = time.monotonic() - self.started[1]
+                if not sys.stderr.isatty() and seconds >= 2:
+                    typer.echo(f"compiled {self.started[0]} in {seconds:.0f} s ({self.done} kernels done)", err=True)
+                self.show("")
+
+        @staticmethod
+        def show(text):
+            progress = _compile_notice.get("progress")
+            if progress is not None and progress.bar is not None:
+                progress.bar.update(progress.task, description=f"{progress.label}: {text}" if text else progress.label)
+            elif sys.stderr.isatty():
+                typer.echo(f"\r\033[K{text}", err=True, nl=False)
 
     event.register("numba:compile", Notice())
     _compile_notice["installed"] = True
@@ -132,6 +160,7 @@ class _Progress:
             self.bar = Progress(transient=True)
             self.bar.start()
             self.task = self.bar.add_task(self.label, total=1.0)
+        _compile_notice["progress"] = self  # where the compile notice says what it compiles
         return self
 
     def __call__(self, fraction):
@@ -142,6 +171,7 @@ class _Progress:
             typer.echo(f"{self.label}: {fraction:4.0%}", err=True)
 
     def __exit__(self, *exc):
+        _compile_notice["progress"] = None
         if self.bar is not None:
             self.bar.stop()
 
