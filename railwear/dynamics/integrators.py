@@ -32,9 +32,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import literally, njit
 
-from railwear.dynamics.kernels import contact_power, event, patch_half_angle, rhs, rhs_inline, sweep, switching
+from railwear.dynamics.kernels import (ByLiteral, contact_power, event_inline, patch_half_angle, rhs_call, rhs_inline,
+                                       sweep, switching_inline)
 
 METHOD_DOPRI5 = 0
 METHOD_ROSENBROCK = 1
@@ -213,11 +214,12 @@ def _stage_state(a, s, y, h, k, tmp):
 @njit(cache=True, inline="always")
 def _explicit_step(kind, p, surf, t, y, f0, h, a, c, n_stages, ynew, fnew, k, tmp):
     """Stages ``k[:n_stages]`` of an explicit FSAL pair (tableau ``a``, nodes ``c``): the last stage
-    is evaluated at the new solution, which goes to ``ynew``, and its RHS to ``fnew``."""
+    is evaluated at the new solution, which goes to ``ynew``, and its RHS to ``fnew``. The model is
+    called, not inlined: inlined twice (both explicit methods) it took most of a cold compile."""
     k[0, :] = f0
     for s in range(1, n_stages):
         _stage_state(a, s, y, h, k, tmp)
-        rhs_inline(kind, t + c[s] * h, tmp, p, surf, k[s])
+        rhs_call(kind, t + c[s] * h, tmp, p, surf, k[s])
     ynew[:] = tmp
     fnew[:] = k[n_stages - 1]
 
@@ -252,10 +254,11 @@ def _dop853_error_norm(err5, err3, y, ynew, rtol, atol):
 def _dop853_dense(kind, p, surf, t, y, h, ynew, k, q, tmp, r):
     """Dense-output coefficients of the last DOP853 step from its stages ``k[:13]``: the three extra
     stages into ``k[13:16]``, then the nested interpolant ``r`` converted to powers of ``s``."""
+    literally(kind)
     n = y.shape[0]
     for s in range(13, 16):
         _stage_state(_D8_A, s, y, h, k, tmp)
-        rhs(kind, t + _D8_C[s] * h, tmp, p, surf, k[s])
+        rhs_call(kind, t + _D8_C[s] * h, tmp, p, surf, k[s])
     for i in range(n):
         r[0] = ynew[i] - y[i]
         r[1] = h * k[0, i] - r[0]
@@ -314,6 +317,7 @@ def _lu_solve(lu, piv, b):
 @njit(cache=True)
 def _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, ftmp):
     """Forward-difference Jacobian ``df/dy`` and ``df/dt``; two-sided scale ``max(|y|, atol/rtol)``."""
+    literally(kind)
     n = y.shape[0]
     root_eps = 1.4901161193847656e-08
     for j in range(n):
@@ -321,11 +325,11 @@ def _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, ftmp):
         delta = root_eps * max(abs(y[j]), atol / rtol)
         tmp[j] = y[j] + delta
         delta = tmp[j] - y[j]
-        rhs(kind, t, tmp, p, surf, ftmp)
+        rhs_call(kind, t, tmp, p, surf, ftmp)
         for i in range(n):
             jac[i, j] = (ftmp[i] - f0[i]) / delta
     dt = root_eps * max(abs(t), 1e-3)
-    rhs(kind, t + dt, y, p, surf, ftmp)
+    rhs_call(kind, t + dt, y, p, surf, ftmp)
     for i in range(n):
         dfdt[i] = (ftmp[i] - f0[i]) / dt
 
@@ -333,6 +337,7 @@ def _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, ftmp):
 @njit(cache=True)
 def _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, w, piv, k1, k2, tmp, f1):
     """One step of the Rosenbrock 2(3) pair; returns False if ``W`` is singular."""
+    literally(kind)
     n = y.shape[0]
     d = _ROS_D
     for i in range(n):
@@ -346,14 +351,14 @@ def _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, 
     _lu_solve(w, piv, k1)
     for i in range(n):
         tmp[i] = y[i] + 0.5 * h * k1[i]
-    rhs(kind, t + 0.5 * h, tmp, p, surf, f1)
+    rhs_call(kind, t + 0.5 * h, tmp, p, surf, f1)
     for i in range(n):
         k2[i] = f1[i] - k1[i]
     _lu_solve(w, piv, k2)
     for i in range(n):
         k2[i] += k1[i]
         ynew[i] = y[i] + h * k2[i]
-    rhs(kind, t + h, ynew, p, surf, fnew)
+    rhs_call(kind, t + h, ynew, p, surf, fnew)
     for i in range(n):
         tmp[i] = fnew[i] - _ROS_E32 * (k2[i] - f1[i]) - 2.0 * (k1[i] - f0[i]) + h * d * dfdt[i]
     _lu_solve(w, piv, tmp)  # tmp = k3
@@ -370,6 +375,7 @@ def _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, 
 @njit(cache=True)
 def _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r):
     """Dense-output coefficients of the last explicit step; returns the extra RHS evaluations."""
+    literally(kind)
     if method == METHOD_DOP853:
         _dop853_dense(kind, p, surf, t, y, h, ynew, k, q, tmp, r)
         return 3
@@ -402,6 +408,7 @@ def _hermite(y, ynew, f0, fnew, h, q):
 def _locate_event(kind, p, surf, t, y, h, q, g_lo, g_hi, tmp, switch):
     """Illinois root of the event function (``switch``: of the switching function) on the step's
     interpolant; returns ``s`` in (0, 1] on the far side of the root (the new sign)."""
+    literally(kind)
     s_lo, s_hi = 0.0, 1.0
     side = 0
     for _ in range(100):
@@ -410,9 +417,9 @@ def _locate_event(kind, p, surf, t, y, h, q, g_lo, g_hi, tmp, switch):
             s = 0.5 * (s_lo + s_hi)
         _dense(y, h, q, s, tmp)
         if switch:
-            g = switching(kind, t + s * h, tmp, p, surf)
+            g = switching_inline(kind, t + s * h, tmp, p, surf)
         else:
-            g = event(kind, t + s * h, tmp, p, surf)
+            g = event_inline(kind, t + s * h, tmp, p, surf)
         if (g > 0.0) == (g_hi > 0.0) and g != 0.0:
             s_hi, g_hi = s, g
             if side == 1:
@@ -439,6 +446,7 @@ def _deposit_step(kind, p, surf, t, y, h, q, s_end, energy, tmp):
     into pieces in which the contact moves by at most one cell; on each, the energy is the
     three-point Gauss-Legendre integral of the power on the step's interpolant, swept over the
     cells as the patch moves linearly between the piece's end angles."""
+    literally(kind)
     dx = 2.0 * math.pi / energy.shape[0]
     w = patch_half_angle(kind, p)
     _dense(y, h, q, 0.0, tmp)
@@ -464,7 +472,7 @@ def _deposit_step(kind, p, surf, t, y, h, q, s_end, energy, tmp):
 
 
 @njit(cache=True)
-def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events, max_norm,
+def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events, max_norm,
               energy, cut_at_switches=True):
     """Integrate model ``kind`` from ``t0`` to ``t_end``.
 
@@ -479,6 +487,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
     ``cut_at_switches``: retry a rejected step that crosses a switch (``kernels.switching``) up to
     the switch (see the module notes); ``False`` only to measure what it saves.
     """
+    literally(kind)
     n = y0.shape[0]
     stats = np.zeros(5, dtype=np.int64)
     dense_mode = t_eval.shape[0] > 0
@@ -509,7 +518,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
     k2 = np.empty(n)
     f1 = np.empty(n)
 
-    rhs(kind, t, y, p, surf, f0)
+    rhs_call(kind, t, y, p, surf, f0)
     stats[STAT_NFEV] += 1
     n_out = 0
     i_eval = 0
@@ -541,7 +550,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
         h = min(h, span)
         for i in range(n):
             tmp[i] = y[i] + h * f0[i]
-        rhs(kind, t + h, tmp, p, surf, fnew)
+        rhs_call(kind, t + h, tmp, p, surf, fnew)
         stats[STAT_NFEV] += 1
         d2 = 0.0
         for i in range(n):
@@ -555,7 +564,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
         h = min(100.0 * h, h1)
     h = min(h, h_max, span)
 
-    g_old = event(kind, t, y, p, surf) if use_events else 1.0
+    g_old = event_inline(kind, t, y, p, surf) if use_events else 1.0
     status = STATUS_OK
     jac_fresh = False
     fac_max = 5.0
@@ -606,8 +615,8 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
         if en > 1.0:
             stats[STAT_NREJECT] += 1
             if cut_at_switches and cuts < 2:
-                g_a = switching(kind, t, y, p, surf)
-                g_b = switching(kind, t + h, ynew, p, surf)
+                g_a = switching_inline(kind, t, y, p, surf)
+                g_b = switching_inline(kind, t + h, ynew, p, surf)
                 if (g_a > 0.0) != (g_b > 0.0) and g_a != 0.0 and g_b != 0.0:
                     # a kink inside: retry up to just past it, then go on with this step size
                     _hermite(y, ynew, f0, fnew, h, q)
@@ -629,7 +638,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
         hit = 0
         q_ready = method == METHOD_ROSENBROCK
         if use_events:
-            g_new = event(kind, t_new, ynew, p, surf)
+            g_new = event_inline(kind, t_new, ynew, p, surf)
             if (g_new > 0.0) != (g_old > 0.0) and g_new != 0.0:
                 if not q_ready:
                     stats[STAT_NFEV] += _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r)
@@ -639,10 +648,10 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
                 if s_end < 1.0:
                     t_new = t + s_end * h
                     _dense(y, h, q, s_end, ynew)
-                    rhs(kind, t_new, ynew, p, surf, fnew)
+                    rhs_call(kind, t_new, ynew, p, surf, fnew)
                     stats[STAT_NFEV] += 1
                     last = False
-                g_new = event(kind, t_new, ynew, p, surf)
+                g_new = event_inline(kind, t_new, ynew, p, surf)
             g_old = g_new
         bad = False
         for i in range(n):
@@ -697,3 +706,7 @@ def integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_s
         cuts = 0
     stats[STAT_NEVENTS] = n_ev
     return ts, ys, n_out, status, t, y, stats, ev_t[:n_ev], ev_y[:n_ev], ev_dir[:n_ev]
+
+
+# from Python: one compiled integrator per model kind (argument 0, a constant)
+integrate = ByLiteral(_integrate, _integrate.py_func.__doc__)

@@ -15,7 +15,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import literally, njit, typeof, types
+from numba.extending import overload
 
 # model kinds
 KIND_LINEAR = 0  # y' = A y, A in p[1:] (n = p[0]); tests of the integrators
@@ -779,22 +780,36 @@ def sweep(energy, xa, xb, half_angle, amount):
         below = above
 
 
-@njit(cache=True)
 def contact_power(kind, t, y, p, surf):
     """``(x_c, power)``: the contact angle on the wheel, not wrapped [rad], and the frictional
-    power [W] (disk wheel; ``(0, 0)`` for the other models)."""
-    if kind == KIND_DISK_WHEEL:
-        power = _disk_contact(t, y, p, surf)[3]
-        return p[DW_INITIAL_ANGLE] + p[DW_SPEED] / p[DW_RADIUS] * t + y[0], power
-    return 0.0, 0.0
+    power [W] (disk wheel; ``(0, 0)`` for the other models). Compiled code only."""
+    raise TypeError("contact_power is for compiled code")
 
 
-@njit(cache=True)
+@overload(contact_power, inline="always", prefer_literal=True)
+def _contact_power(kind, t, y, p, surf):
+    if not isinstance(kind, types.IntegerLiteral):
+        return None
+    if kind.literal_value == KIND_DISK_WHEEL:
+        def impl(kind, t, y, p, surf):
+            power = _disk_contact(t, y, p, surf)[3]
+            return p[DW_INITIAL_ANGLE] + p[DW_SPEED] / p[DW_RADIUS] * t + y[0], power
+        return impl
+    return lambda kind, t, y, p, surf: (0.0, 0.0)
+
+
 def patch_half_angle(kind, p):
-    """Half-width of the contact patch on the wheel [rad] (disk wheel; 0 otherwise)."""
-    if kind == KIND_DISK_WHEEL:
-        return p[DW_PATCH_HALF_ANGLE]
-    return 0.0
+    """Half-width of the contact patch on the wheel [rad] (disk wheel; 0 otherwise). Compiled code only."""
+    raise TypeError("patch_half_angle is for compiled code")
+
+
+@overload(patch_half_angle, inline="always", prefer_literal=True)
+def _patch_half_angle(kind, p):
+    if not isinstance(kind, types.IntegerLiteral):
+        return None
+    if kind.literal_value == KIND_DISK_WHEEL:
+        return lambda kind, p: p[DW_PATCH_HALF_ANGLE]
+    return lambda kind, p: 0.0
 
 
 # ---- test systems ---------------------------------------------------------------------------
@@ -817,70 +832,170 @@ def van_der_pol_rhs(t, y, p, surf, dydt):
 
 
 # ---- dispatch -------------------------------------------------------------------------------
+# The model kind is a compile-time constant: a compiled caller takes ``kind`` as a literal
+# (``literally(kind)``), and the functions below pick the model's function when they are typed,
+# so a run compiles the one model it integrates instead of all of them (the first run of a
+# command compiled every model into every integrator). The numbers are the same: the same
+# functions run, inlined where they were.
+
+
+def _literal_kind(kind):
+    """The value of a numba integer literal type, or None for a kind only known at run time."""
+    return kind.literal_value if isinstance(kind, types.IntegerLiteral) else None
+
+
+def rhs_inline(kind, t, y, p, surf, dydt):
+    """Right-hand side of model ``kind`` into ``dydt``, inlined where it is called (``rhs_call``);
+    compiled code only."""
+    raise TypeError("rhs_inline is for compiled code; call rhs")
+
+
+def _pick(kind, impls, none):
+    """The implementation in ``impls`` (model kind -> function) for the literal ``kind``; ``none``
+    for a kind of no model (it does nothing, as before); None (no match) for a non-literal kind."""
+    value = _literal_kind(kind)
+    return None if value is None else impls.get(value, none)
+
+
+_RHS = {
+    KIND_WHEELSET: lambda kind, t, y, p, surf, dydt: wheelset_rhs(t, y, p, surf, dydt),
+    KIND_DISK_WHEEL: lambda kind, t, y, p, surf, dydt: disk_wheel_rhs(t, y, p, surf, dydt),
+    KIND_BOGIE: lambda kind, t, y, p, surf, dydt: bogie_rhs(t, y, p, surf, dydt, False),
+    KIND_TABLE_BOGIE: lambda kind, t, y, p, surf, dydt: bogie_rhs(t, y, p, surf, dydt, True),
+    KIND_TABLE_WHEELSET: lambda kind, t, y, p, surf, dydt: table_wheelset_rhs(t, y, p, surf, dydt),
+    KIND_COOPERRIDER: lambda kind, t, y, p, surf, dydt: cooperrider_rhs(t, y, p, surf, dydt),
+    KIND_LINEAR: lambda kind, t, y, p, surf, dydt: linear_rhs(t, y, p, surf, dydt),
+    KIND_VAN_DER_POL: lambda kind, t, y, p, surf, dydt: van_der_pol_rhs(t, y, p, surf, dydt),
+}
+
+
+@overload(rhs_inline, inline="always", prefer_literal=True)
+def _rhs_inline(kind, t, y, p, surf, dydt):
+    return _pick(kind, _RHS, lambda kind, t, y, p, surf, dydt: None)
+
+
 @njit(cache=True)
-def rhs(kind, t, y, p, surf, dydt):
-    """Right-hand side of model ``kind`` into ``dydt`` (a plain call)."""
+def rhs_call(kind, t, y, p, surf, dydt):
+    """Right-hand side of model ``kind`` into ``dydt`` (a plain call, from compiled code)."""
+    literally(kind)
     rhs_inline(kind, t, y, p, surf, dydt)
 
 
-@njit(cache=True, inline="always")
-def rhs_inline(kind, t, y, p, surf, dydt):
-    """Right-hand side of model ``kind`` into ``dydt``, inlined where it is called (the hot
-    Dormand-Prince stage loop) to save the call with its array arguments."""
-    if kind == KIND_WHEELSET:
-        wheelset_rhs(t, y, p, surf, dydt)
-    elif kind == KIND_DISK_WHEEL:
-        disk_wheel_rhs(t, y, p, surf, dydt)
-    elif kind == KIND_BOGIE or kind == KIND_TABLE_BOGIE:
-        bogie_rhs(t, y, p, surf, dydt, kind == KIND_TABLE_BOGIE)
-    elif kind == KIND_TABLE_WHEELSET:
-        table_wheelset_rhs(t, y, p, surf, dydt)
-    elif kind == KIND_COOPERRIDER:
-        cooperrider_rhs(t, y, p, surf, dydt)
-    elif kind == KIND_LINEAR:
-        linear_rhs(t, y, p, surf, dydt)
-    elif kind == KIND_VAN_DER_POL:
-        van_der_pol_rhs(t, y, p, surf, dydt)
+def event_inline(kind, t, y, p, surf):
+    """Event function of model ``kind`` (sign changes are events); 1 where a model has none.
+    Compiled code only (``event`` from Python)."""
+    raise TypeError("event_inline is for compiled code; call event")
 
 
-@njit(cache=True, inline="always")
-def event(kind, t, y, p, surf):
-    """Event function of model ``kind`` (sign changes are events); 1 where a model has none."""
-    if kind == KIND_DISK_WHEEL:
-        return disk_wheel_event(t, y, p, surf)
-    return 1.0
-
-
-@njit(cache=True, inline="always")
-def switching(kind, t, y, p, surf):
-    """Switching function of model ``kind``: its sign changes where the right-hand side has a kink
-    that the integrators cut their steps at. Flange contact made or lost: ``|y - y_t| - clearance``
-    [m] for the wheelset, the product of the two wheelsets' gaps [m^2] for the conical bogies; 1
-    where a model has none."""
-    if kind == KIND_WHEELSET:
-        return abs(y[0] - _track_alignment(t, p, surf)) - p[WS_FLANGE_CLEARANCE]
-    if kind == KIND_BOGIE:
-        c = p[BG_FLANGE_CLEARANCE]
-        return (abs(y[0]) - c) * (abs(y[2]) - c)
-    if kind == KIND_COOPERRIDER:
-        c = p[CP_FLANGE_CLEARANCE]
-        return (abs(y[0]) - c) * (abs(y[2]) - c)
-    return 1.0
+@overload(event_inline, prefer_literal=True)  # a call (inlined, numba's SSA check warns)
+def _event_inline(kind, t, y, p, surf):
+    value = _literal_kind(kind)
+    if value == KIND_DISK_WHEEL:
+        return lambda kind, t, y, p, surf: disk_wheel_event(t, y, p, surf)
+    if value is not None:
+        return lambda kind, t, y, p, surf: 1.0
+    return None
 
 
 @njit(cache=True)
-def outputs(kind, ts, ys, p, surf, n_out):
-    """Derived quantities at every output time: array ``(len(ts), n_out)``."""
+def _event(kind, t, y, p, surf):
+    literally(kind)
+    return event_inline(kind, t, y, p, surf)
+
+
+def switching_inline(kind, t, y, p, surf):
+    """Switching function of model ``kind``: its sign changes where the right-hand side has a kink
+    that the integrators cut their steps at. Flange contact made or lost: ``|y - y_t| - clearance``
+    [m] for the wheelset, the product of the two wheelsets' gaps [m^2] for the conical bogies; 1
+    where a model has none. Compiled code only (``switching`` from Python)."""
+    raise TypeError("switching_inline is for compiled code; call switching")
+
+
+@overload(switching_inline, prefer_literal=True)  # a call: only rejected steps ask
+def _switching_inline(kind, t, y, p, surf):
+    value = _literal_kind(kind)
+    if value == KIND_WHEELSET:
+        return lambda kind, t, y, p, surf: abs(y[0] - _track_alignment(t, p, surf)) - p[WS_FLANGE_CLEARANCE]
+    if value == KIND_BOGIE:
+        return lambda kind, t, y, p, surf: (abs(y[0]) - p[BG_FLANGE_CLEARANCE]) * (abs(y[2]) - p[BG_FLANGE_CLEARANCE])
+    if value == KIND_COOPERRIDER:
+        return lambda kind, t, y, p, surf: (abs(y[0]) - p[CP_FLANGE_CLEARANCE]) * (abs(y[2]) - p[CP_FLANGE_CLEARANCE])
+    if value is not None:
+        return lambda kind, t, y, p, surf: 1.0
+    return None
+
+
+@njit(cache=True)
+def _switching(kind, t, y, p, surf):
+    literally(kind)
+    return switching_inline(kind, t, y, p, surf)
+
+
+def outputs_row(kind, t, y, p, surf, out):
+    """The model's derived quantities at one time into ``out``; compiled code only."""
+    raise TypeError("outputs_row is for compiled code; call outputs")
+
+
+_OUTPUTS = {
+    KIND_WHEELSET: lambda kind, t, y, p, surf, out: wheelset_outputs(t, y, p, surf, out),
+    KIND_DISK_WHEEL: lambda kind, t, y, p, surf, out: disk_wheel_outputs(t, y, p, surf, out),
+    KIND_BOGIE: lambda kind, t, y, p, surf, out: bogie_outputs(False, y, p, surf, out),
+    KIND_TABLE_BOGIE: lambda kind, t, y, p, surf, out: bogie_outputs(True, y, p, surf, out),
+    KIND_TABLE_WHEELSET: lambda kind, t, y, p, surf, out: table_wheelset_outputs(t, y, p, surf, out),
+    KIND_COOPERRIDER: lambda kind, t, y, p, surf, out: cooperrider_outputs(y, p, surf, out),
+}
+
+
+@overload(outputs_row, inline="always", prefer_literal=True)
+def _outputs_row(kind, t, y, p, surf, out):
+    return _pick(kind, _OUTPUTS, lambda kind, t, y, p, surf, out: None)
+
+
+@njit(cache=True)
+def _outputs(kind, ts, ys, p, surf, n_out):
+    literally(kind)
     res = np.zeros((ts.shape[0], n_out))
     for i in range(ts.shape[0]):
-        if kind == KIND_WHEELSET:
-            wheelset_outputs(ts[i], ys[i], p, surf, res[i])
-        elif kind == KIND_DISK_WHEEL:
-            disk_wheel_outputs(ts[i], ys[i], p, surf, res[i])
-        elif kind == KIND_BOGIE or kind == KIND_TABLE_BOGIE:
-            bogie_outputs(kind == KIND_TABLE_BOGIE, ys[i], p, surf, res[i])
-        elif kind == KIND_TABLE_WHEELSET:
-            table_wheelset_outputs(ts[i], ys[i], p, surf, res[i])
-        elif kind == KIND_COOPERRIDER:
-            cooperrider_outputs(ys[i], p, surf, res[i])
+        outputs_row(kind, ts[i], ys[i], p, surf, res[i])
     return res
+
+
+class ByLiteral:
+    """A compiled function that takes some of its arguments (the model kind, the method) as
+    compile-time constants (``literally``), called from Python. numba would type every such call
+    again to find the specialisation (milliseconds), so each (constant values, argument types) is
+    looked up once and its compiled entry point called directly after. ``literal``: the positions
+    of the constant arguments (integers)."""
+
+    def __init__(self, dispatcher, doc, literal=(0,)):
+        self.dispatcher, self.__doc__, self.literal = dispatcher, doc, literal
+        self._entries = {}
+
+    @staticmethod
+    def _type_key(a):
+        if isinstance(a, np.ndarray):
+            f = a.flags
+            return a.dtype.str, a.ndim, f.c_contiguous, f.f_contiguous, f.writeable, f.aligned
+        return type(a)
+
+    def __call__(self, *args):
+        args = tuple(int(a) if i in self.literal else a for i, a in enumerate(args))
+        key = tuple(a if i in self.literal else self._type_key(a) for i, a in enumerate(args))
+        entry = self._entries.get(key)
+        if entry is not None:
+            return entry[0](*args, *entry[1])
+        result = self.dispatcher(*args)  # compiles, or loads from the cache
+        signature = tuple(types.literal(a) if i in self.literal else typeof(a) for i, a in enumerate(args))
+        for sig, compiled in self.dispatcher.overloads.items():  # omitted defaults at the end
+            if tuple(sig[:len(args)]) == signature and all(isinstance(s, types.Omitted) for s in sig[len(args):]):
+                self._entries[key] = compiled.entry_point, tuple(s.value for s in sig[len(args):])
+        return result
+
+
+rhs = ByLiteral(rhs_call, """Right-hand side of model ``kind`` into ``dydt``: ``rhs(kind, t, y, p, surf, dydt)``.""")
+event = ByLiteral(_event, """Event function of model ``kind`` (sign changes are events): ``event(kind, t, y, p,
+surf)``; 1 where a model has none.""")
+switching = ByLiteral(_switching, """Switching function of model ``kind`` (``switching_inline``): ``switching(kind,
+t, y, p, surf)``.""")
+outputs = ByLiteral(_outputs, """Derived quantities of model ``kind`` at every output time: ``outputs(kind, ts,
+ys, p, surf, n_out)``, an array ``(len(ts), n_out)``.""")
