@@ -9,7 +9,8 @@ angle × lateral position, the worn profile fed back into the contact table afte
 step (``railwear.longterm.wheelset_wear``). Two speeds: one at which centred running is the only
 motion, one at which the wheelset hunts. Each runs to the same distance with the stepwise
 strategy at falling step limits and the direct strategy at falling acceleration factors; the
-direct run at the smallest factor is the reference.
+direct run at the smallest factor is the reference. All of it on each contact model of the tables
+(``contact_model`` "hertz", "multi-hertz", "semi-hertzian", ``docs/contact.md``).
 """
 
 import sys
@@ -31,6 +32,7 @@ SPEEDS = {"centred running": 30.0, "hunting": 60.0}  # m/s
 LIFE = 1e6  # m of running per unit normed time
 SAMPLES, SECONDS = 4, 2.0  # stepwise: draws per step and seconds gathered per draw
 UPDATE_SECONDS = 0.25  # direct: profile and table updated every this many simulated seconds
+CONTACTS = ("hertz", "multi-hertz", "semi-hertzian")  # the tables' contact models, hertz first
 
 
 def settings(quick):
@@ -40,12 +42,12 @@ def settings(quick):
     return 1e6, (8e-6, 4e-6, 2e-6, 1e-6), (2e4, 1e4, 5e3, 2.5e3)
 
 
-def problem(speed):
-    """The wheelset wear problem at ``speed`` (m/s) on the unworn profiles."""
+def problem(speed, contact="hertz"):
+    """The wheelset wear problem at ``speed`` (m/s) on the unworn profiles, tables of ``contact``."""
     wheel, rail = load_profile("S1002"), load_profile("UIC60")
-    model = TableWheelsetModel(speed=speed, **SUSPENSION, table=contact_table(wheel, rail),
+    model = TableWheelsetModel(speed=speed, **SUSPENSION, table=contact_table(wheel, rail, contact_model=contact),
                                friction_coefficient=FRICTION)
-    return WheelsetWear(model, wheel, rail, EnergyLaw(), LIFE)
+    return WheelsetWear(model, wheel, rail, EnergyLaw(), LIFE, contact_model=contact)
 
 
 def worn_critical_speed(p, ds):
@@ -61,9 +63,10 @@ def centre(p):
 
 def warm_up():
     """Compile and load the kernels once, so that the wall times below are those of the runs."""
-    p = problem(SPEEDS["hunting"])
-    Direct(Wheelset(p, update_seconds=UPDATE_SECONDS), 1e5, n_save=None).run(until=0.01)
-    Stepwise(Wheelset(p, seconds=0.1, samples=2), 1e-6).run(until=0.001)
+    for contact in CONTACTS:
+        p = problem(SPEEDS["hunting"], contact)
+        Direct(Wheelset(p, update_seconds=UPDATE_SECONDS), 1e5, n_save=None).run(until=0.01)
+        Stepwise(Wheelset(p, seconds=0.1, samples=2), 1e-6).run(until=0.001)
 
 
 def worn(ds):
@@ -88,10 +91,21 @@ def contact_range(ds, first_only=False):
     return (float(lo[0]), float(hi[0])) if first_only else (float(np.min(lo)), float(np.max(hi)))
 
 
-def runs(speed, quick):
-    """Stepwise and direct runs at ``speed`` (m/s): ``{label: (dataset, wall seconds)}``."""
+def centroid(ds, step=-1):
+    """Lateral position (m) of the volume's centre of the lateral depth of both wheels after save ``step``."""
+    depth = np.clip(ds.worn_depth.values[step].mean(0), 0.0, None)
+    return float(np.sum(depth * ds.lateral.values) / np.sum(depth))
+
+
+def deepest_at(ds):
+    """Lateral position (m) of the deepest point of the final lateral depth of both wheels."""
+    return float(ds.lateral.values[np.argmax(ds.worn_depth.values[-1].mean(0))])
+
+
+def runs(speed, quick, contact="hertz"):
+    """Stepwise and direct runs at ``speed`` (m/s) on tables of ``contact``: ``{label: (dataset, wall seconds)}``."""
     distance, limits, factors = settings(quick)
-    p = problem(speed)
+    p = problem(speed, contact)
     out = {}
     for factor in factors:
         t = time.perf_counter()
@@ -109,22 +123,25 @@ def mm(x):
 
 
 def wheelset_section(quick: bool) -> str:
-    """The Markdown section on the wheelset: bands, contact ranges, stepwise against direct, cost."""
+    """The Markdown section on the wheelset: bands, contact ranges, stepwise against direct, cost,
+    on each contact model."""
     distance, limits, factors = settings(quick)
     lines = ["## The wheelset on real profiles: the worn lateral profile", ""]
     warm_up()
-    results = {}
-    for regime, speed in SPEEDS.items():
-        p, out = runs(speed, quick)
-        results[regime] = (speed, out, p)
-    vc = critical_speed(p.model)
+    every = {}  # (contact, regime): (speed, runs, problem)
+    for contact in CONTACTS:
+        for regime, speed in SPEEDS.items():
+            p, out = runs(speed, quick, contact)
+            every[contact, regime] = (speed, out, p)
+    results = {regime: every["hertz", regime] for regime in SPEEDS}
+    vc = critical_speed(results["hunting"][2].model)
     reference = f"direct, A = {factors[-1]:g}"
     finest = f"stepwise, {limits[-1] * 1e6:g} um"
     lines += [
         f"S1002 wheels on UIC60 rails (1/40 cant, gauge 1435 mm), contact tables over 201 shifts of "
         f"±10 mm; the wheelset of `docs/dynamics.md` (1022 kg, k_y 1.823 MN/m, k_psi 2 MN m/rad, "
-        f"friction {FRICTION}), linear critical speed {vc:.1f} m/s; the hunting limit cycle exists "
-        f"well below it (down to about 40 m/s, `docs/dynamics.md`). Energy law k_e = 5.3e-9 kg/J "
+        f"friction {FRICTION}), linear critical speed {vc:.1f} m/s on the Hertz table; the hunting limit "
+        f"cycle exists well below it (down to about 40 m/s, `docs/dynamics.md`). Energy law k_e = 5.3e-9 kg/J "
         f"(beta = {EnergyLaw().beta:.3g} m³/J, no scaling of the wear), a wear surface per wheel of "
         f"64 angles × 180 lateral cells of 0.5 mm on the wheel profile, Hertz footprint from the "
         f"table's semi-axes. Every run goes {distance / 1e3:g} km from new profiles; after every "
@@ -134,9 +151,13 @@ def wheelset_section(quick: bool) -> str:
         f"3 s transient + {SECONDS:g} s gathered per step, step limit = the largest change of the "
         f"fed lateral profile per step. Direct: one run from one such start, the wear coefficient "
         f"times A, profile and table updated every {UPDATE_SECONDS:g} s of simulated time. "
-        f"Reference: {reference}.",
+        f"Reference: {reference}. Everything is run on each contact model of the tables "
+        f"(`[wheelset_wear] contact_model`, `docs/contact.md`): **hertz** one rigid point per wheel "
+        f"carrying the load; **multi-hertz** and **semi-hertzian** every local minimum of the gap a "
+        f"contact, the load shared, the dynamics on their resultant, and each contact worn at its own "
+        f"position under its own patch by its creep share of the frictional power.",
         "",
-        "Regime, contact positions and worn band: on the new profiles (the first stepwise step, "
+        "Hertz contact. Regime, contact positions and worn band: on the new profiles (the first stepwise step, "
         f"{finest}) and over the whole reference run. Largest lateral displacement: after the "
         "transients, in the first step and over the run.",
         "",
@@ -155,27 +176,52 @@ def wheelset_section(quick: bool) -> str:
             f"{mm(lo0)} to {mm(hi0)} (range {mm(hi0 - lo0)}) | {mm(lo)} to {mm(hi)} (range {mm(hi - lo)}) | "
             f"{mm(band(first, 1))} | {mm(band(ref))} | {1e6 * float(ref.worn_depth.values[-1].max()):.1f} | "
             f"{worn_critical_speed(p, ref):.1f} |")
+    lines += ["", "The three contact models, same quantities (contact positions: every loaded contact of the "
+              "tables at the shifts the runs visit), the linear critical speed on the new and on the worn "
+              "profile, where the final depth lands (deepest point and centre of the removed volume on the "
+              "wheel profile, positive towards the field side), its relative L2 difference from the Hertz "
+              "reference's, and the reference run's cost.", "",
+              "| contact | speed | largest lateral displacement, new / over the run [mm] | linear critical speed, "
+              "new / worn [m/s] | contact positions, new profiles [mm] | contact positions over the run [mm] | "
+              "90 % band, new / end [mm] | deepest [um] | deepest at / volume centre [mm] | rel. L2 from hertz | "
+              "reference: tables, wall [s] |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for (contact, regime), (speed, out, q) in every.items():
+        ref, first = out[reference][0], out[finest][0]
+        hertz = every["hertz", regime][1][reference][0]
+        lo0, hi0 = contact_range(first, first_only=True)
+        lo, hi = contact_range(ref)
+        difference = "-" if contact == "hertz" else f"{relative_l2(ref, hertz):.2f}"
+        lines.append(
+            f"| {contact} | {speed:g} m/s | {mm(float(first.lateral_amplitude[1]))} / "
+            f"{mm(float(np.max(ref.lateral_amplitude[1:])))} | {critical_speed(q.model):.1f} / "
+            f"{worn_critical_speed(q, ref):.1f} | {mm(lo0)} to {mm(hi0)} | {mm(lo)} to {mm(hi)} | "
+            f"{mm(band(first, 1))} / {mm(band(ref))} | {1e6 * float(ref.worn_depth.values[-1].max()):.1f} | "
+            f"{mm(deepest_at(ref))} / {mm(centroid(ref))} | {difference} | {int(ref.cost_tables)}, "
+            f"{out[reference][1]:.1f} |")
     lines += ["", "The worn lateral profile: relative L2 difference of the final angle-averaged depth of both "
-              f"wheels from the reference, and the cost (dynamics seconds simulated, right-hand sides, "
-              f"contact tables, wall time on a shared 2-core machine).", "",
-              "| speed | strategy | rel. L2 difference | steps / updates | simulated [s] | right-hand sides "
-              "| tables | wall [s] | volume removed / law |", "|---|---|---|---|---|---|---|---|---|"]
-    for regime, (speed, out, _) in results.items():
+              f"wheels from the reference of the same contact model, and the cost (dynamics seconds simulated, "
+              f"right-hand sides, contact tables, wall time on a shared 2-core machine).", "",
+              "| speed | contact | strategy | rel. L2 difference | steps / updates | simulated [s] | right-hand sides "
+              "| tables | wall [s] | volume removed / law |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for (contact, regime), (speed, out, _) in every.items():
         ref = out[reference][0]
         for label, (ds, wall) in out.items():
             steps = ds.attrs["steps"]
             difference = "reference" if label == reference else f"{relative_l2(ds, ref):.3f}"
             closure = float(ds.removed_volume[-1] / ds.law_volume[-1]) - 1
-            lines.append(f"| {speed:g} m/s | {label} | {difference} | {steps} | {float(ds.cost_seconds):.1f} | "
-                         f"{int(ds.cost_rhs_evaluations)} | {int(ds.cost_tables)} | {wall:.1f} | 1 {closure:+.0e} |")
+            lines.append(f"| {speed:g} m/s | {contact} | {label} | {difference} | {steps} | "
+                         f"{float(ds.cost_seconds):.1f} | {int(ds.cost_rhs_evaluations)} | {int(ds.cost_tables)} | "
+                         f"{wall:.1f} | 1 {closure:+.0e} |")
     lines += ["", "Angular pattern at the end (reference run): peak-to-peak over angle of the depth at the most "
-              "worn lateral cell, against its mean.", "", "| speed | mean depth [um] | peak-to-peak over angle [um] |",
-              "|---|---|---|"]
-    for regime, (speed, out, _) in results.items():
+              "worn lateral cell, against its mean.", "",
+              "| speed | contact | mean depth [um] | peak-to-peak over angle [um] |", "|---|---|---|---|"]
+    for (contact, regime), (speed, out, _) in every.items():
         surface = out[reference][0].surface_depth.values.mean(0)
         k = int(np.argmax(surface.mean(0)))
-        lines.append(f"| {speed:g} m/s | {1e6 * surface[:, k].mean():.2f} | {1e6 * np.ptp(surface[:, k]):.2f} |")
-    lines += ["", "### Why", "", _why(results, p, reference, finest, limits, factors), ""]
+        lines.append(f"| {speed:g} m/s | {contact} | {1e6 * surface[:, k].mean():.2f} | "
+                     f"{1e6 * np.ptp(surface[:, k]):.2f} |")
+    lines += ["", "### Why", "", _why(results, p, reference, finest, limits, factors),
+              _why_contacts(every, reference, finest), ""]
     return "\n".join(lines)
 
 
@@ -219,8 +265,8 @@ def _why(results, p, reference, finest, limits, factors):
         f"threshold in the "
         f"worn depth, and near it the random starts of the stepwise strategy fall on either side "
         f"(centred or on the small cycle), so this case converges slowly and not monotonically in the "
-        f"step limit and in the factor. (A rigid single-point Hertz table exaggerates the jumps; a "
-        f"multi-point or non-Hertzian contact would spread the load over the conformal groove.) At "
+        f"step limit and in the factor. (Tables of several contacts per wheel share the "
+        f"load over the conformal groove; what that changes: last bullets.) At "
         f"{SPEEDS['hunting']:g} m/s the depth is spread thin over the hunting band and the contact "
         f"positions hardly change.",
         f"- **Stepwise against direct.** Both integrate the same frozen-geometry wear; stepwise is "
@@ -245,6 +291,120 @@ def _why(results, p, reference, finest, limits, factors):
         "linearisation of the table model about the worn profile (the wear rate's response to a "
         "lateral profile change, e.g. through the rolling-radius difference) and a fit of h over "
         "the lateral curvature and position on the tread; neither is built.",
+    ])
+
+
+def _points_at_centre(p):
+    """(positions on the wheel profile (m), shares of the load) of the loaded contacts of the right
+    wheel at y = 0 on the new profiles."""
+    at = p.model.table.sel(y=0.0, side="right")
+    if "point_normal_force" not in at:
+        return np.array([float(at.wheel_contact_y)]), np.array([1.0])
+    force = at.point_normal_force.values
+    loaded = force > 0
+    return at.point_wheel_y.values[loaded], force[loaded] / force.sum()
+
+
+def _why_contacts(every, reference, finest):
+    """The bullets on what the contact models change, from the runs ``every[(contact, regime)]``."""
+    def ref(contact, regime):
+        return every[contact, regime][1][reference][0]
+
+    def each(values, unit="", fmt=mm):
+        return ", ".join(f"{c} {fmt(values[c])}{unit}" for c in CONTACTS)
+
+    def worn(contact, regime):
+        ds = ref(contact, regime)
+        return (f"{contact} {1e6 * float(ds.worn_depth.values[-1].max()):.1f} um deep, band {mm(band(ds))} mm, "
+                f"deepest at {mm(deepest_at(ds))} mm, volume centre {mm(centroid(ds))} mm")
+
+    def motion(amplitude):
+        return "stays centred" if amplitude < 5e-5 else f"runs a cycle of up to {mm(amplitude)} mm"
+
+    slow, fast = SPEEDS
+    new = [c for c in CONTACTS if c != "hertz"]
+    points = {c: _points_at_centre(every[c, slow][2]) for c in CONTACTS}
+    where = "; ".join(f"{c} " + " and ".join(f"{mm(y)} mm ({100 * w:.0f} %)" for y, w in zip(*points[c]))
+                      for c in CONTACTS)
+    apart = [float(np.ptp(points[c][0])) for c in new]
+    first = {c: every[c, slow][1][finest][0] for c in CONTACTS}
+    first_deepest = {c: float(first[c].lateral.values[np.argmax(first[c].worn_depth.values[1].mean(0))])
+                     for c in CONTACTS}
+    vc = {c: critical_speed(every[c, slow][2].model) for c in CONTACTS}
+    vc_worn = {(c, r): worn_critical_speed(every[c, r][2], ref(c, r)) for c in CONTACTS for r in SPEEDS}
+    amplitude = {(c, r): float(np.max(ref(c, r).lateral_amplitude[1:])) for c in CONTACTS for r in SPEEDS}
+    start = {c: float(every[c, fast][1][finest][0].lateral_amplitude[1]) for c in CONTACTS}
+    calm = [c for c in CONTACTS if start[c] < 1e-3]
+    later = {c: ref(c, fast).lateral_amplitude.values[2:] for c in calm}
+    cost = {c: sum(every[c, r][1][reference][1] for r in SPEEDS) for c in CONTACTS}
+    total = {c: sum(w for r in SPEEDS for _, w in every[c, r][1].values()) for c in CONTACTS}
+    tables = {c: sum(int(ds.cost_tables) for r in SPEEDS for ds, _ in every[c, r][1].values()) for c in CONTACTS}
+    labels = list(every["hertz", fast][1])
+    steps = [label for label in labels if label.startswith("stepwise")]
+    directs = [label for label in labels if label.startswith("direct") and label != reference]
+
+    def differences(regime, chosen):
+        return "; ".join(f"{c} {_differences(every[c, regime][1], reference, chosen)}" for c in CONTACTS)
+
+    hunting = each(start, " mm")
+    spread = {(c, r): max(relative_l2(ds, ref(c, r)) for label, (ds, _) in every[c, r][1].items() if label != reference)
+              for c in new for r in SPEEDS}
+    l2 = {(c, r): relative_l2(ref(c, r), ref("hertz", r)) for c in new for r in SPEEDS}
+    larger = all(l2[k] > spread[k] for k in l2)
+    calm_text = "".join(
+        f" On the {c} tables the wheelset does not hunt on the new profiles from these starts (linear "
+        f"critical speed {vc[c]:.1f} m/s, and no large cycle is reached); it wears the two contacts' "
+        f"grooves and then runs a small cycle, up to {mm(later[c].max())} mm ({mm(later[c][-1])} mm at the end)."
+        for c in calm)
+    large = [c for c in CONTACTS if c not in calm]
+    own = {(c, r): relative_l2(every[c, r][1][directs[-1]][0], ref(c, r)) for c in CONTACTS for r in SPEEDS}
+    ratio = [float(np.min(every[c, slow][2].model.table.point_b.sel(y=0.0, side="right")[:2])
+                   / np.max(every[c, slow][2].model.table.point_b.sel(y=0.0, side="right")[:2])) for c in new]
+    return "\n".join([
+        f"- **Several contacts per wheel: where the load sits.** At y = 0 on the new profiles the "
+        f"contacts of a wheel (on the wheel profile) and their shares of the load: {where}. The Hertz "
+        f"point becomes a main patch on the tread and a narrow one {', '.join(f'{mm(d)}' for d in apart)} mm "
+        f"towards the flange ({', '.join(new)}; lateral semi-axes "
+        + ", ".join(f"{mm(float(every[c, slow][2].model.table.point_b.sel(y=0.0, side='right')[0]))} / "
+                    f"{mm(float(every[c, slow][2].model.table.point_b.sel(y=0.0, side='right')[1]))} mm" for c in new)
+        + f" against the single point's {mm(float(every['hertz', slow][2].model.table.b.sel(y=0.0, side='right')))} mm). "
+        f"In the first step of centred running ({SPEEDS[slow]:g} m/s) the band is {each({c: band(first[c], 1) for c in CONTACTS}, ' mm')} "
+        f"and the deepest point at {each(first_deepest, ' mm')}: on the new contact the narrow second patch "
+        f"(its share of the power on {', '.join(f'{100 * r:.0f}' for r in ratio)} % of the main patch's "
+        f"width) wears fastest. The linear critical speed "
+        f"on the new profiles is {each(vc, ' m/s', lambda v: f'{v:.1f}')}.",
+        f"- **Several contacts per wheel: what the wear does.** After {float(ref('hertz', slow).distance[-1]):g} km "
+        f"of centred running ({SPEEDS[slow]:g} m/s, reference runs): " + "; ".join(worn(c, slow) for c in CONTACTS)
+        + ". From the start the wear goes into two grooves, under the main patch and under the second "
+        "one, where the single point wears one band; the worn profile's linear critical speed falls to "
+        + each({c: vc_worn[c, slow] for c in CONTACTS}, " m/s", lambda v: f"{v:.1f}")
+        + ", and over the run the wheelset " + ", ".join(f"{motion(amplitude[c, slow])} on {c}" for c in CONTACTS)
+        + f". Hunting speed ({SPEEDS[fast]:g} m/s, starts of 1-3 mm): the largest lateral displacement after the "
+        f"first transients is {hunting}."
+        + calm_text + " Worn: " + "; ".join(worn(c, fast) for c in CONTACTS)
+        + ". Relative L2 difference of the final lateral depth from hertz's: "
+        + ", ".join(f"{c} {l2[c, r]:.2f} ({SPEEDS[r]:g} m/s)" for c in new for r in SPEEDS)
+        + (", each above the largest difference of that model's strategies from its own reference ("
+           if larger else ", against the largest difference of that model's strategies from its own reference (")
+        + ", ".join(f"{spread[k]:.2f}" for k in l2)
+        + ("): the contact model changes the worn profile more than the choice of strategy does. " if larger else "). ")
+        + "(The dynamics read the resultant of the contacts, `docs/contact.md`: "
+        "one creep force per wheel with the summed coefficients; the different creepage directions and "
+        "spins of the points are not in it.)",
+        f"- **Several contacts per wheel: convergence and cost.** Differences from each model's own reference "
+        f"at {SPEEDS[fast]:g} m/s for step limits {', '.join(s.split(', ')[1] for s in steps)}: "
+        f"{differences(fast, steps)}; for {', '.join(d.split(', ')[1] for d in directs)}: "
+        f"{differences(fast, directs)}. At {SPEEDS[slow]:g} m/s, step limits: {differences(slow, steps)}; factors: "
+        f"{differences(slow, directs)}. Only the large hunting cycle ({', '.join(large)} at "
+        f"{SPEEDS[fast]:g} m/s) converges at about first order; elsewhere the differences fall slowly and "
+        f"not always monotonically (near the onset of a small cycle the random starts fall on either "
+        f"side, as described above for hertz), and the reference's own error, about its difference from "
+        f"the run at twice its factor, is "
+        + ", ".join(f"{c} {own[c, r]:.3f} ({SPEEDS[r]:g} m/s)" for c in CONTACTS for r in SPEEDS)
+        + ". The cost is in "
+        f"the tables: the reference runs of both speeds take {each(cost, ' s', lambda v: f'{v:.1f}')} of wall "
+        f"time, all the runs of the comparison "
+        + ", ".join(f"{c} {total[c]:.0f} s ({tables[c]} tables)" for c in CONTACTS) + ".",
     ])
 
 
