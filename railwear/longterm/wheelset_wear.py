@@ -178,8 +178,14 @@ class WheelsetWear:
         return worn_profile(self.wheel, -removed)
 
     def table(self, depth):
-        """Contact table of the wheel worn by the lateral ``depth`` (m) on the rail, over ``shifts``."""
-        return contact_table(self.profile(depth), self.rail, y=np.asarray(self.shifts), contact_model=self.contact_model)
+        """Contact table of the wheel worn by the lateral ``depth`` (m) on the rail, over ``shifts``,
+        with the track, load and elastic constants of the model's own (new-profile) table."""
+        a = self.model.table.attrs
+        return contact_table(self.profile(depth), self.rail, gauge=a["gauge"], cant=a["cant"],
+                             back_to_back=a["back_to_back"], axle_load=a["axle_load"],
+                             y=np.asarray(self.shifts), rolling_radius=a["nominal_rolling_radius"],
+                             taping_line_offset=a["taping_line_offset"], youngs_modulus=a["youngs_modulus"],
+                             poisson=a["poisson"], contact_model=self.contact_model)
 
     def start(self, rng):
         """Random initial lateral displacement (m) and phase (rad)."""

@@ -246,3 +246,15 @@ def test_checkpoints_survive_an_npz_file(profiles, make_strategy, k, tmp_path):
         back = Checkpoint.from_plain({n: data[n] for n in data.files})
     assert back.kind == strategy.name and isinstance(back.fingerprint, str)
     _assert_same(strategy.run(until=0.06, resume=back), whole)
+
+
+def test_rebuilt_tables_keep_the_load_radius_and_constants_of_the_first(profiles):
+    """A table rebuilt on a worn profile takes the axle load, nominal radius and elastic constants
+    of the model's first table (they fell back to contact_table's defaults, 133.4 kN and 0.46 m)."""
+    wheel, rail, _ = profiles
+    first = contact_table(wheel, rail, axle_load=160e3, rolling_radius=0.42, youngs_modulus=2.0e11, poisson=0.3)
+    p = replace(make(profiles, 30.0), model=replace(make(profiles, 30.0).model, table=first))
+    again = p.table(np.zeros(len(p.lateral)))
+    for name in ("axle_load", "nominal_rolling_radius", "youngs_modulus", "poisson", "gauge", "cant"):
+        assert again.attrs[name] == first.attrs[name], name
+    np.testing.assert_array_equal(again.normal_force.values, first.normal_force.values)
