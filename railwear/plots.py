@@ -98,12 +98,19 @@ def evolution(ds, orders=6):
             amp_ax.plot(along, np.maximum(amp[:, k], floor), color=f"C{j % 10}", lw=1.4,
                         ls="-" if ratio >= 1 else "--", label=f"order {n[k]}: {said}")
         amp_ax.set_yscale("log")
-        amp_ax.set_ylim(floor / 1.3, peak * 1.6)
+        lowest = max(floor, float(np.min(amp[:, leading])))  # the floor only where a drawn order reaches it
+        amp_ax.set_ylim(lowest / 1.3, peak * 1.6)
         amp_ax.yaxis.set_major_formatter(lambda v, _: f"{v:g}")
         amp_ax.yaxis.set_minor_formatter(lambda v, _: f"{v:g}" if f"{v:.0e}"[0] in "25" else "")
         amp_ax.set(xlabel=along_label, ylabel="amplitude per order (µm)",
                    title=f"the {len(leading)} largest orders: solid grow, dashed decay")
         amp_ax.legend(fontsize="x-small", ncol=2, title="end / start", title_fontsize="x-small")
+        if "distance" in ds.coords:  # long distances: a few ticks with thousands separated
+            from matplotlib.ticker import MaxNLocator
+
+            amp_ax.xaxis.set_major_locator(MaxNLocator(5))
+            for axis in (ax.yaxis, amp_ax.xaxis):
+                axis.set_major_formatter(lambda v, _: f"{v:,.0f}" if abs(v) >= 100 else f"{v:g}")
     fig.suptitle(_title(ds, "evolution of the out-of-round deviation"))
     return fig
 
