@@ -53,7 +53,7 @@ def test_bogie_branch_is_subcritical():
 
 def test_bad_dynamics_scenario(tmp_path):
     path = tmp_path / "bad.toml"
-    path.write_text(dynamics._builtin_dir().joinpath("hunting.toml").read_text().replace("mass = 1022.0", "mas = 1022.0"))
+    path.write_text(dynamics._builtin_dir().joinpath("hunting.toml").read_text().replace("mass_kg = 1022.0", "mas = 1022.0"))
     r = CliRunner().invoke(app, ["simulate", str(path), "-o", str(tmp_path / "o")])
     assert r.exit_code == 2 and "mas" in r.output and len(r.output.strip().splitlines()) == 1
     assert not (tmp_path / "o" / "dynamics.nc").exists()

@@ -113,9 +113,9 @@ def test_spin_state_and_fastsim_from_a_scenario(tmp_path):
 
     text = dynamics._builtin_dir().joinpath("hunting.toml").read_text()
     path = tmp_path / "spin.toml"
-    path.write_text(text.replace("[run]", 'spin_inertia = 120.0\ncreep_law = "fastsim"\n\n[run]'))
+    path.write_text(text.replace("[run]", 'spin_inertia_kg_m2 = 120.0\ncreep_law = "fastsim"\n\n[run]'))
     ds = api.simulate(dynamics.load_dynamics_scenario(path))
     assert ds.spin_deviation.dims == ("speed", "time") and ds.attrs["linear_critical_speed_kmh"] > 0
-    path.write_text(text.replace("[run]", 'spin_inertia = "heavy"\n\n[run]'))
-    with pytest.raises(ScenarioError, match="^spin_inertia: must be a number"):
+    path.write_text(text.replace("[run]", 'spin_inertia_kg_m2 = "heavy"\n\n[run]'))
+    with pytest.raises(ScenarioError, match="spin_inertia_kg_m2: must be a number"):
         dynamics.build(dynamics.load_dynamics_scenario(path), 50.0)

@@ -100,8 +100,8 @@ def test_scenarios_on_real_profiles(tmp_path):
     profiles = 'profiles = { wheel = "S1002", rail = "UIC60" }\n'
     bogie = dynamics.build(_scenario(tmp_path, '[model]\nkind = "cooperrider"\n' + profiles + run), 30.0)
     assert isinstance(bogie, TableBogieModel) and bogie.frame_mass == 2918.9
-    with pytest.raises(ScenarioError, match="^flange_clearance: not a field"):
-        dynamics.build(_scenario(tmp_path, '[model]\nkind = "cooperrider"\nflange_clearance = 5e-3\n' + profiles + run),
+    with pytest.raises(ScenarioError, match="flange_clearance_mm: not a field"):
+        dynamics.build(_scenario(tmp_path, '[model]\nkind = "cooperrider"\nflange_clearance_mm = 5.0\n' + profiles + run),
                        30.0)
     with pytest.raises(ScenarioError, match="^model.profiles: profile file 'XYZ'"):
         dynamics.build(_scenario(tmp_path, '[model]\nkind = "cooperrider"\nprofiles = { wheel = "XYZ" }\n' + run), 30.0)
