@@ -20,10 +20,15 @@ Sources of the defaults (see docs/dynamics.md, "The published Cooperrider bogie"
   each per side; half wheelbase 1.074 m; d1 = 0.62 m, d2 = 0.68 m; h1 = 0.0762 m (frame centre of
   mass above the axles), h2 = 0.6584 m (secondary lateral spring above it); D1 = 20 kN s/m and
   D2 = 29.2 kN s/m (DYTSI puts D2 with the lateral spring and D1 with the vertical one; here D1
-  is lateral, as in Kaas-Petersen's equations as recalled: not confirmed from the paper).
+  is lateral, as in Kaas-Petersen's equations as recalled: not confirmed from the paper). Not
+  taken from DYTSI: its own additions to the car it builds (yaw dampers D6 = 166.7 kN s/m, in
+  the fixed-car-body variant longitudinal yaw springs k6 = 0.90335 MN/m at +-1.5 m, shear
+  springs on the secondary vertical springs, profile tables): Kaas-Petersen's seven degrees of
+  freedom are described without them (docs/dynamics.md compares them).
 - [REF] REFERENCES.md (Cooperrider 1972 via Kaas-Petersen and True's group): wheelset mass
   1022 kg, wheelset yaw inertia 678 kg m^2; rolling radius 0.4572 m (18 in), half gauge 0.7163 m,
-  conicity 0.05, flange dead band 9.1 mm and stiffness 14.6 MN/m: to confirm.
+  conicity 0.05, flange dead band 9.1 mm and stiffness 14.6 MN/m: to confirm (the mass, the yaw
+  inertia and mu = 0.15 are DYTSI's wheelset's too; its gauge and radius are its profiles').
 - [R] recalled, not confirmed from a retrieved source: Vermeulen-Johnson's creep coefficients
   psi = 0.54219 (longitudinal) and phi = 0.60252 (lateral), ``f11 = G pi a b / psi``,
   ``f22 = G pi a b / phi``; friction coefficient 0.15. The wheel load 66.7 kN (15,000 lbf) is an
