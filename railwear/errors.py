@@ -40,6 +40,11 @@ class NumericalInstabilityError(RailwearError, ArithmeticError):
         self.last_time = last_time
 
 
+class ModelRangeError(NumericalInstabilityError):
+    """The model left the range where it holds (the wheel gained radius as a whole, say): its
+    numbers are not written; ``last_good`` holds the last state inside the range."""
+
+
 class IllPosedError(NumericalInstabilityError):
     """Growth at the grid scale: the equation is ill-posed or under-resolved."""
 

@@ -3,17 +3,55 @@
 import numpy as np
 import xarray as xr
 
+from railwear.errors import ModelRangeError
 from railwear.geometry import roundness
+
+ROUND_OFF = 1e4 * np.finfo(float).eps  # of the largest |u|: a mean below -this is a gain, not round-off
+
+
+def _label(da, dim, i):
+    """Entry ``i`` of ``dim``: its coordinate value with units, else the index."""
+    if dim not in da.coords or da[dim].dtype.kind not in "fiu":
+        return str(i)
+    return f"{float(da[dim].values[i]):g} {da[dim].attrs.get('units', '')}".strip()
+
+
+def check_no_gain(u, mean_removed):
+    """Refuse a wheel that gains radius as a whole: the mean removed depth below minus round-off
+    (:data:`ROUND_OFF` of the largest ``|u|``) at some time means the wear model gave material
+    back, outside the range where it holds. Raises :class:`ModelRangeError` naming when (and for
+    which batch entry), with the last state before it as the last good one."""
+    scale = float(np.nanmax(np.abs(u.values))) if u.size else 0.0
+    gain = (mean_removed < -ROUND_OFF * scale).transpose("time", ...)
+    if not bool(gain.any()):
+        return
+    flat = gain.values.reshape(gain.sizes["time"], -1)
+    first = int(np.argmax(flat.any(axis=1)))
+    row = int(np.argmax(flat[first]))
+    batch = [d for d in gain.dims if d != "time"]
+    index = np.unravel_index(row, [gain.sizes[d] for d in batch])
+    parts = [f"{d} {_label(gain, d, i)}" for d, i in zip(batch, index)]
+    where = f" ({', '.join(parts)})" if parts else ""
+    depth = float(mean_removed.transpose("time", ...).values.reshape(flat.shape)[first, row])
+    time = float(u.time.values[first])
+    last = max(first - 1, 0)
+    raise ModelRangeError(
+        f"removed_depth: the wheel gained radius as a whole{where}: mean removed depth {depth * 1e6:.3g} um "
+        f"at T = {time:.4g}; the wear model left its range (a negative wear rate) and its result is not written",
+        last_good=u.isel(time=last).values, last_time=float(u.time.values[last]))
+
 
 def describe(ds: xr.Dataset):
     """Add removed depth over time and the initial and final polygon spectra to a solution."""
     u = ds.u
     batch = [d for d in u.dims if d not in ("time", "angle")]
     u0, u_end = u.isel(time=0), u.isel(time=-1)
-    removed = (u0 - u).max("angle")
+    mean_removed = (u0 - u).mean("angle")
+    check_no_gain(u, mean_removed)
+    removed = (u0 - u).max("angle").clip(min=0.0)  # >= the mean, so only round-off is clipped
     ds["removed_depth"] = removed.assign_attrs(
         units="m", long_name="largest radius lost since the start (most worn spot)")
-    ds["mean_removed_depth"] = (u0 - u).mean("angle").assign_attrs(
+    ds["mean_removed_depth"] = mean_removed.assign_attrs(
         units="m", long_name="mean radius lost since the start")
     deviation = u - u.mean("angle")
     rows = deviation.transpose(*batch, "time", "angle").values.reshape(-1, u.sizes["time"], u.sizes["angle"])
