@@ -37,6 +37,7 @@ def stability(scenario=None, speeds_kmh=SPEEDS_KMH, orders=ORDERS, amplitude=Non
     wheel; the Fourier technique ignores it). Attributes: ``scenario_name``, ``scenario_hash``
     and ``source``, a label for people.
     """
+    from railwear.api import speed_coordinates
     from railwear.scenario import build, load_scenario, scenario_hash
 
     v = _speeds_m_s(speeds_kmh)
@@ -62,7 +63,7 @@ def stability(scenario=None, speeds_kmh=SPEEDS_KMH, orders=ORDERS, amplitude=Non
         ds = stability_map(build.wear_rate(sc), v, n, sc.solver.epsilon, sc.solver.nu, a)
         label = f"evolution equation, crest amplitude {a / UM:g} µm"
     ds.attrs.update(scenario_name=sc.name, scenario_hash=scenario_hash(sc), source=label)
-    return ds
+    return speed_coordinates(ds)
 
 
 class FitResult(NamedTuple):

@@ -3,7 +3,29 @@
 from railwear.scenario import load_scenario, scenario_hash, to_toml
 from railwear.scenario import build
 
-__all__ = ["load_scenario", "run", "simulate"]
+__all__ = ["load_scenario", "run", "simulate", "speed_coordinates"]
+
+SPEED_KMH_DECIMALS = 6  # km/h written beside m/s: 100 km/h reads 100, not 99.99999999999999
+
+
+def speed_coordinates(ds, speed_m_s=None, dim=None):
+    """``ds`` with the speed convention of every file railwear writes: ``speed`` in m s-1 as the
+    coordinate and ``speed_kmh`` in km h-1 beside it, on the same dimensions. ``speed_m_s`` (on
+    ``dim``, or a scalar) is given where ``ds`` has no ``speed`` yet."""
+    import numpy as np
+
+    from railwear.units import m_s_to_kmh
+
+    if speed_m_s is not None:
+        ds = ds.assign_coords(speed=((dim,) if dim else (), np.asarray(speed_m_s, float),
+                                     {"units": "m s-1", "long_name": "vehicle speed"}))
+    if "speed" not in ds.coords:
+        return ds
+    speed = ds.coords["speed"]
+    if speed.attrs.get("units") != "m s-1":
+        raise ValueError(f"speed: expected a coordinate in m s-1, got {speed.attrs.get('units')!r}")
+    kmh = np.round(m_s_to_kmh(np.asarray(speed.values, float)), SPEED_KMH_DECIMALS)
+    return ds.assign_coords(speed_kmh=(speed.dims, kmh, {"units": "km h-1", "long_name": "vehicle speed"}))
 
 
 def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.0, resume_path=None):
@@ -55,7 +77,7 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
         "life_distance_km": scenario.operation.life_distance_km,
     })
     ds["nominal_radius"] = ((), scenario.wheel.radius_m, {"units": "m", "long_name": "nominal rolling radius"})
-    return check_result(ds)
+    return check_result(speed_coordinates(ds))
 
 
 def simulate(scenario, progress=None):
@@ -100,4 +122,4 @@ def simulate(scenario, progress=None):
         if scenario.model.kind == "wheelset":
             attrs["linear_critical_speed_kmh"] = m_s_to_kmh(float(critical_speed(dynamics.build(scenario, speeds[0]))))
     ds.attrs.update(attrs)
-    return ds
+    return speed_coordinates(ds)

@@ -369,11 +369,31 @@ def run_sweep(base: Scenario, varies, store, samples=None, seed=0, executor=None
         finally:
             if own:
                 executor.close()
-    combined = combine(coords, keys, done, errors, samples is not None)
+    combined = with_speeds(combine(coords, keys, done, errors, samples is not None), base, coords, samples is not None)
     combined.attrs.update(base_scenario=to_toml(base), base_scenario_hash=scenario_hash(base),
                           design="latin hypercube" if samples else "grid", seed=seed)
     results.write_netcdf(combined, store / "sweep.nc")
     return combined
+
+
+def with_speeds(ds, base, coords, random_design):
+    """The sweep's speed by the convention of every result file, ``speed`` in m s-1 with
+    ``speed_kmh`` in km h-1 beside it: over the varied speed field's dimension (``sample`` in a
+    random design), else the base scenario's one speed. Variables, not coordinates: the
+    coordinates of ``sweep.nc`` are the varied fields."""
+    from railwear.api import speed_coordinates
+    from railwear.units import kmh_to_m_s
+
+    varied = [f for f in SPEED_FIELDS if f in coords]
+    if varied:
+        values = np.asarray(coords[varied[0]], float)
+        dim = "sample" if random_design else varied[0]
+        speeds = speed_coordinates(xr.Dataset(), kmh_to_m_s(values) if varied[0].endswith("_kmh") else values, dim)
+    elif isinstance(base.operation.speeds, float):
+        speeds = speed_coordinates(xr.Dataset(), base.operation.speeds)
+    else:  # a batch of speeds in every point: each point's result has them
+        return ds
+    return ds.assign({name: speeds[name].variable for name in ("speed", "speed_kmh")})
 
 
 def combine(coords, keys, done, errors, random_design):
