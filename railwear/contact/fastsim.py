@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 
 from railwear.contact._checks import as_float_array, non_negative, poisson_ratio, positive
-from railwear.contact.kalker import _kalker_scalar, kalker_coefficients
+from railwear.contact.kalker import kalker_coefficients
 from railwear.errors import ScenarioError
 
 __all__ = ["FastsimResult", "FastsimBatchResult", "fastsim", "fastsim_batch", "flexibilities"]
@@ -42,17 +42,10 @@ __all__ = ["FastsimResult", "FastsimBatchResult", "fastsim", "fastsim_batch", "f
 _BOUNDS = {"elliptic": 0, "parabolic": 1}
 
 
-@njit(cache=True)
-def _flexibilities(a, b, shear_modulus, poisson):
-    c11, c22, c23, _ = _kalker_scalar(a / b, poisson)
-    L1 = 8.0 * a / (3.0 * c11 * shear_modulus)
-    L2 = 8.0 * a / (3.0 * c22 * shear_modulus)
-    L3 = np.pi * a * np.sqrt(a / b) / (4.0 * c23 * shear_modulus)
-    return L1, L2, L3
-
-
 def flexibilities(a, b, shear_modulus, poisson):
-    """Kalker's FASTSIM flexibilities (L1, L2, L3) [m/Pa] for semi-axes a, b [m] (vectorised)."""
+    """Kalker's FASTSIM flexibilities (L1, L2, L3) [m/Pa] for semi-axes a, b [m] (vectorised).
+
+    The compiled kernels take them from here: Kalker's coefficients are numpy, not compiled."""
     c11, c22, c23, _ = kalker_coefficients(np.asarray(a) / np.asarray(b), poisson)
     L1 = 8.0 * a / (3.0 * c11 * shear_modulus)
     L2 = 8.0 * a / (3.0 * c22 * shear_modulus)
@@ -171,9 +164,8 @@ def _fastsim_kernel(a, b, fz, xi, eta, phi, mu, L1, L2, L3, speed, nx, ny, parab
 
 
 @njit(cache=True)
-def _fastsim_single(a, b, fz, xi, eta, phi, mu, G, nu, speed, nx, ny, parabolic):
-    """One contact with fields: flexibilities, grid and kernel in one compiled call."""
-    L1, L2, L3 = _flexibilities(a, b, G, nu)
+def _fastsim_single(a, b, fz, xi, eta, phi, mu, L1, L2, L3, speed, nx, ny, parabolic):
+    """One contact with fields: grid and kernel in one compiled call."""
     px = np.zeros((nx, ny))
     py = np.zeros((nx, ny))
     pd = np.zeros((nx, ny))
@@ -192,19 +184,18 @@ def _fastsim_single(a, b, fz, xi, eta, phi, mu, G, nu, speed, nx, ny, parabolic)
             y[i, j] = yc
     res = _fastsim_kernel(a, b, fz, xi, eta, phi, mu, L1, L2, L3, speed, nx, ny, parabolic, True,
                           px, py, pd, slip)
-    return res, px, py, pd, slip, x, y, cell_area, L1, L2, L3
+    return res, px, py, pd, slip, x, y, cell_area
 
 
 @njit(cache=True)
-def _fastsim_batch_kernel(a, b, fz, xi, eta, phi, mu, G, nu, speed, nx, ny, parabolic, out):
+def _fastsim_batch_kernel(a, b, fz, xi, eta, phi, mu, L1, L2, L3, speed, nx, ny, parabolic, out):
     dummy = np.zeros((1, 1))
     dummy_b = np.zeros((1, 1), dtype=np.bool_)
     for k in range(a.shape[0]):
         if fz[k] <= 0.0:
             out[k, :] = 0.0
             continue
-        L1, L2, L3 = _flexibilities(a[k], b[k], G[k], nu[k])
-        res = _fastsim_kernel(a[k], b[k], fz[k], xi[k], eta[k], phi[k], mu[k], L1, L2, L3,
+        res = _fastsim_kernel(a[k], b[k], fz[k], xi[k], eta[k], phi[k], mu[k], L1[k], L2[k], L3[k],
                               speed[k], nx, ny, parabolic, False, dummy, dummy, dummy, dummy_b)
         for m in range(5):
             out[k, m] = res[m]
@@ -300,8 +291,9 @@ def fastsim(a, b, normal_force, xi, eta, phi, mu, shear_modulus, poisson, nx=40,
         raise ScenarioError(f"bound must be 'elliptic' or 'parabolic', got {bound!r}")
     if int(nx) != nx or nx < 1 or int(ny) != ny or ny < 1:
         raise ScenarioError(f"nx and ny must be positive integers, got {nx}, {ny}")
-    res, px, py, pd, slip, x, y, cell_area, L1, L2, L3 = _fastsim_single(
-        a, b, fz, xi, eta, phi, mu, G, nu, speed, int(nx), int(ny), _BOUNDS[bound] == 1
+    L1, L2, L3 = (float(L) for L in flexibilities(a, b, G, nu))
+    res, px, py, pd, slip, x, y, cell_area = _fastsim_single(
+        a, b, fz, xi, eta, phi, mu, L1, L2, L3, speed, int(nx), int(ny), _BOUNDS[bound] == 1
     )
     Fx, Fy, Mz, p_loc, slip_frac = res
     return FastsimResult(
@@ -340,7 +332,8 @@ def fastsim_batch(a, b, normal_force, xi, eta, phi, mu, shear_modulus, poisson, 
     shape = arrays[0].shape
     a, b, fz, xi, eta, phi, mu, G, nu, speed = (np.ascontiguousarray(v, dtype=float).ravel() for v in arrays)
     out = np.zeros((a.size, 5))
-    _fastsim_batch_kernel(a, b, fz, xi, eta, phi, mu, G, nu, speed, int(nx), int(ny),
+    L1, L2, L3 = (np.ascontiguousarray(L, dtype=float) for L in flexibilities(a, b, G, nu))
+    _fastsim_batch_kernel(a, b, fz, xi, eta, phi, mu, L1, L2, L3, speed, int(nx), int(ny),
                           _BOUNDS[bound] == 1, out)
     p_glob = -speed * (xi * out[:, 0] + eta * out[:, 1] + phi * out[:, 2])
     r = lambda v: v.reshape(shape)  # noqa: E731

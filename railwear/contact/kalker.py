@@ -32,10 +32,10 @@ linearly in ``1/Λ``, ``Λ = ln(16/g²)``, the variable of Kalker's expansions. 
 railwear's, not Kalker's.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from railwear.contact._checks import as_float_array, poisson_ratio, positive, scalar_or_array
 
@@ -80,23 +80,22 @@ _LN4 = np.log(4.0)
 _LAMBDA_01 = np.log(16.0 / 0.01)
 
 
-@njit(cache=True)
 def _lagrange_nu(v0, v25, v50, nu):
     """Parabola through values at nu = 0, 0.25, 0.5 (Lagrange form; exact at the nodes)."""
     return 8.0 * (nu - 0.25) * (nu - 0.5) * v0 - 16.0 * nu * (nu - 0.5) * v25 + 8.0 * nu * (nu - 0.25) * v50
 
 
-@njit(cache=True)
-def _asymptote(case, k, g, nu):
-    """Kalker's slender-ellipse asymptote of coefficient k (0..3; case 1 only k < 3) at g, nu."""
-    lam = np.log(16.0 / (g * g))
+def _asymptote(case, k, g, nu, log=math.log, sqrt=math.sqrt):
+    """Kalker's slender-ellipse asymptote of coefficient k (0..3; case 1 only k < 3) at g, nu
+    (scalars; the C library's ``log``)."""
+    lam = log(16.0 / (g * g))
     if case == 0:  # a/b = g -> 0, patch short in the rolling direction
         if k == 0:
             return np.pi**2 / (4.0 * (1.0 - nu))
         if k == 1:
             return np.pi**2 / 4.0
         if k == 2:
-            return np.pi * np.sqrt(g) / (3.0 * (1.0 - nu)) * (1.0 + nu * (0.5 * lam + _LN4 - 5.0))
+            return np.pi * sqrt(g) / (3.0 * (1.0 - nu)) * (1.0 + nu * (0.5 * lam + _LN4 - 5.0))
         return np.pi**2 / (16.0 * (1.0 - nu) * g)
     # b/a = g -> 0, patch long in the rolling direction
     if k == 0:
@@ -118,8 +117,11 @@ def _first_interval_slopes():
     ``(3 d01 - d12) / 2``. Both stay within [0, 3] times the secant over 0.1 ... 0.2, so the cubic
     is monotone (Fritsch & Carlson).
     """
-    asymptote = _asymptote.py_func  # the plain function: nothing is compiled at import
     step = 1e-6
+
+    def asymptote(case, k, g, nu):  # numpy's log here, as the table has always been built
+        return _asymptote(case, k, g, nu, log=np.log, sqrt=np.sqrt)
+
     d = np.diff(KALKER_TABLE[:, :3], axis=1) / 0.1  # secants over 0.1-0.2 and 0.2-0.3
     slopes = np.empty((2, 2, 4, 3))
     slopes[:, 1] = d[:, 1]
@@ -138,50 +140,49 @@ def _first_interval_slopes():
 _SLOPES = _first_interval_slopes()
 
 
-@njit(cache=True)
-def _node_value(case, k, j, g):
-    """Coefficient k at the tabulated Poisson ratio j, any g in (0, 1]: linear in g between the
-    rows from g = 0.2, a cubic Hermite between 0.1 and 0.2, the matched asymptote below."""
-    nu = _NU_NODES_ARR[j]
-    if g < 0.1:
-        value = KALKER_TABLE[case, 0, k, j]
-        if case == 1 and k == 3:  # C33 of long patches: close the gap to its limit linearly in 1/Lambda
-            limit = np.pi / 4.0 * (1.0 - 2.0 * nu) / (1.0 - nu)
-            return limit + (value - limit) * _LAMBDA_01 / np.log(16.0 / (g * g))
-        return value * _asymptote(case, k, g, nu) / _asymptote(case, k, 0.1, nu)
-    r = min(int((g - 0.1) * 10.0 + 1e-9), 8)
-    h = _G_NODES[r + 1] - _G_NODES[r]
-    t = (g - _G_NODES[r]) / h
-    v0, v1 = KALKER_TABLE[case, r, k, j], KALKER_TABLE[case, r + 1, k, j]
-    if r > 0:
-        return (1.0 - t) * v0 + t * v1
-    m0, m1 = _SLOPES[case, 0, k, j] * h, _SLOPES[case, 1, k, j] * h
-    return v0 + t * t * (3.0 - 2.0 * t) * (v1 - v0) + t * (1.0 - t) * ((1.0 - t) * m0 - t * m1)
+def _below_table(case, k, j, g):
+    """Coefficient k at the tabulated Poisson ratio j for one g < 0.1: the asymptote matched to the
+    table at g = 0.1 (C33 of long patches: the gap to its limit closed linearly in 1/Lambda)."""
+    nu = float(_NU_NODES_ARR[j])
+    value = float(KALKER_TABLE[case, 0, k, j])
+    if case == 1 and k == 3:
+        limit = np.pi / 4.0 * (1.0 - 2.0 * nu) / (1.0 - nu)
+        return limit + (value - limit) * _LAMBDA_01 / math.log(16.0 / (g * g))
+    return value * _asymptote(case, k, g, nu) / _asymptote(case, k, 0.1, nu)
 
 
-@njit(cache=True)
-def _kalker_scalar(a_over_b, nu):
-    """(C11, C22, C23, C33) for one a/b and nu (no input checks)."""
-    case = 0 if a_over_b <= 1.0 else 1
-    g = a_over_b if case == 0 else 1.0 / a_over_b
-    out = np.empty(4)
-    for k in range(4):
-        c0 = _node_value(case, k, 0, g)
-        c25 = _node_value(case, k, 1, g)
-        c50 = _node_value(case, k, 2, g)
-        if k < 3:  # CONTACT's parabola through 1/C
-            out[k] = 1.0 / _lagrange_nu(1.0 / c0, 1.0 / c25, 1.0 / c50, nu)
-        else:  # C33: parabola through C (module docstring)
-            out[k] = _lagrange_nu(c0, c25, c50, nu)
-    return out[0], out[1], out[2], out[3]
-
-
-@njit(cache=True)
-def _kalker_many(a_over_b, nu, out):
-    for i in range(a_over_b.shape[0]):
-        c = _kalker_scalar(a_over_b[i], nu[i])
+def _node_values(case, g):
+    """Coefficients ``[k, j, i]`` at the tabulated Poisson ratios j for each ``g[i]`` in (0, 1]:
+    linear in g between the rows from g = 0.2, a cubic Hermite between 0.1 and 0.2, the matched
+    asymptote below (numpy on the arrays; the few g < 0.1 one by one)."""
+    r = np.clip(((g - 0.1) * 10.0 + 1e-9).astype(np.int64), 0, 8)  # g < 0.1 is overwritten below
+    h = (_G_NODES[r + 1] - _G_NODES[r])[:, None, None]
+    t = ((g - _G_NODES[r]) / h[:, 0, 0])[:, None, None]
+    v0, v1 = KALKER_TABLE[case, r], KALKER_TABLE[case, r + 1]  # [i, k, j]
+    m0, m1 = _SLOPES[case, 0] * h, _SLOPES[case, 1] * h
+    hermite = v0 + t * t * (3.0 - 2.0 * t) * (v1 - v0) + t * (1.0 - t) * ((1.0 - t) * m0 - t * m1)
+    out = np.where((r == 0)[:, None, None], hermite, (1.0 - t) * v0 + t * v1)
+    for i in np.flatnonzero(g < 0.1):
+        gi = float(g[i])
         for k in range(4):
-            out[k, i] = c[k]
+            for j in range(3):
+                out[i, k, j] = _below_table(case, k, j, gi)
+    return out.transpose(1, 2, 0)
+
+
+def _kalker_many(a_over_b, nu):
+    """(C11, C22, C23, C33) as a ``(4, n)`` array for flat ``a_over_b`` (> 0) and ``nu`` (no checks)."""
+    out = np.empty((4, a_over_b.size))
+    short = a_over_b <= 1.0
+    for case, rows in ((0, short), (1, ~short)):
+        if not rows.any():
+            continue
+        rows = slice(None) if rows.all() else rows
+        g = a_over_b[rows] if case == 0 else 1.0 / a_over_b[rows]
+        c, n = _node_values(case, g), nu[rows]
+        out[:3, rows] = 1.0 / _lagrange_nu(1.0 / c[:3, 0], 1.0 / c[:3, 1], 1.0 / c[:3, 2], n)  # CONTACT's: through 1/C
+        out[3, rows] = _lagrange_nu(c[3, 0], c[3, 1], c[3, 2], n)  # C33: parabola through C (module docstring)
+    return out
 
 
 def kalker_coefficients(a_over_b, poisson):
@@ -197,8 +198,7 @@ def kalker_coefficients(a_over_b, poisson):
     shape = aob.shape
     flat_aob = np.ascontiguousarray(aob, dtype=float).ravel()
     flat_nu = np.ascontiguousarray(nu, dtype=float).ravel()
-    out = np.empty((4, flat_aob.size))
-    _kalker_many(flat_aob, flat_nu, out)
+    out = _kalker_many(flat_aob, flat_nu)
     return tuple(scalar_or_array(c.reshape(shape)) for c in out)
 
 

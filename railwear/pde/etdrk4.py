@@ -62,9 +62,9 @@ def etdrk4_coefficients(L, dt, n_contour=32):
     LR2 = LR * LR
     inv3 = 1 / (LR2 * LR)
 
-    def mean(z):
+    def mean(z):  # C-ordered (not a view on the real part): the compiled loop's one layout
         m = dt * np.mean(z, axis=-1)
-        return m.real if real else m
+        return np.ascontiguousarray(m.real) if real else m
 
     return ETDCoefficients(
         dt=dt[:, 0].copy(),

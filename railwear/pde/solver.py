@@ -165,8 +165,9 @@ class _Loop:
         self.solver, self.eq, self.t_end = solver, equation, t_end
         eq = equation
         self.fingerprint = solver.fingerprint(eq, t_end)
-        self.u_start = eq.u0
-        v = np.fft.rfft(eq.u0, axis=-1)
+        # C-ordered arrays throughout: the compiled loop is typed (and compiled) once per layout
+        self.u_start = np.ascontiguousarray(eq.u0)
+        v = np.ascontiguousarray(np.fft.rfft(eq.u0, axis=-1))
         if eq.ill_posed(v):
             raise IllPosedError(
                 "h decreases with u_xx at the start and neither epsilon nor nu regularises it: "
@@ -209,7 +210,8 @@ class _Loop:
             S = np.maximum(self.eq.max_slope(v), 0.0)
         self.S = S
         self.L = self.eq.linear(S)
-        self.terms = self.eq.compiled_terms(S) if self.eq.compiled else None
+        self.terms = tuple(map(np.ascontiguousarray, self.eq.compiled_terms(S))) if self.eq.compiled else None
+        self.multipliers = (np.ascontiguousarray(self.eq.m_in), np.ascontiguousarray(self.eq.m_out))
         self.weights = {}
 
     def restore(self, c):
@@ -236,7 +238,7 @@ class _Loop:
         co = self._weights(row_steps)
         if self.eq.compiled:
             status, _ = advance_compiled(
-                v, self.eq.n, co.E, co.E2, co.Q, co.f1, co.f2, co.f3, self.eq.m_in, self.eq.m_out,
+                v, self.eq.n, co.E, co.E2, co.Q, co.f1, co.f2, co.f3, *self.multipliers,
                 *self.terms, row_steps, co.dt, t0, active, stop_time, self.u_start, self.depth, self.blowup)
         else:
             status, _ = advance_python(v, co, lambda w: self.eq.nonlinear(w, self.S), int(row_steps[0]), t0,
