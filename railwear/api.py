@@ -113,10 +113,10 @@ def simulate(scenario, progress=None):
     else:
         runs = []
         for i, v in enumerate(speeds):
+            # progress inside each run, read from the compiled loop (the numbers of a run without)
+            inside = lambda f, i=i: progress((i + f) / speeds.size) if progress is not None else None  # noqa: E731
             runs.append(run_model(dynamics.build(scenario, v), scenario.run.duration_s,
-                                  n_output=scenario.run.n_output))
-            if progress is not None:
-                progress((i + 1) / speeds.size)
+                                  n_output=scenario.run.n_output, progress=inside))
         ds = xr.concat(runs, dim="speed", combine_attrs="drop_conflicts").assign_coords(
             speed=("speed", speeds, {"units": "m s-1", "long_name": "vehicle speed"}))
         if scenario.model.kind == "wheelset":

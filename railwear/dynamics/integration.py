@@ -149,8 +149,9 @@ class Integrator:
         """The method's ``integrators.METHOD_*`` number."""
         return _integ.METHODS[self.method]
 
-    def run(self, kind, params, surface, y0, t0, t_end, *, t_eval=None, energy=None) -> IntegrationResult:
-        """Integrate; see the class docstring."""
+    def run(self, kind, params, surface, y0, t0, t_end, *, t_eval=None, energy=None, clock=None) -> IntegrationResult:
+        """Integrate; see the class docstring. ``clock`` (a float64 array of one element) receives
+        the time of each accepted step while the compiled loop runs (``integrators.integrate``)."""
         y0 = np.ascontiguousarray(y0, dtype=float)
         if y0.ndim != 1:
             raise ScenarioError(f"y0: must be a 1-D state, got shape {y0.shape}")
@@ -166,6 +167,11 @@ class Integrator:
         # the switch cuts are the compiled default: pass the flag only to turn them off, so that
         # the usual call meets the specialisation already compiled for callers of ``integrate``
         extra = () if self.cut_at_switches else (False,)
+        if clock is not None:
+            if not (isinstance(clock, np.ndarray) and clock.dtype == np.float64 and clock.shape == (1,)
+                    and clock.flags.writeable):
+                raise ScenarioError("clock: must be a writeable float64 array of one element")
+            extra = (self.cut_at_switches, clock)
         ts, ys, n_out, status, t_last, y_last, stats, ev_t, ev_y, ev_dir = _integ.integrate(
             int(kind), params, surface, y0, float(t0), float(t_end), self.rtol, self.atol, self.method_id,
             self.first_step, self.max_step, self.max_steps, t_eval, every, self.events, self.max_norm, energy, *extra)

@@ -471,9 +471,9 @@ def _deposit_step(kind, p, surf, t, y, h, q, s_end, energy, tmp):
         xa = xb
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events, max_norm,
-              energy, cut_at_switches=True):
+              energy, cut_at_switches=True, clock=None):
     """Integrate model ``kind`` from ``t0`` to ``t_end``.
 
     ``energy`` (one value per wheel cell, or empty for none): the frictional energy of the run
@@ -486,6 +486,9 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
     otherwise at ``t0``, every ``every`` accepted steps and ``t_end``.
     ``cut_at_switches``: retry a rejected step that crosses a switch (``kernels.switching``) up to
     the switch (see the module notes); ``False`` only to measure what it saves.
+    ``clock`` (a float64 array of one element, or omitted): the time of the last accepted step is
+    written to ``clock[0]`` as the run goes, for a progress display; the loop runs without the GIL,
+    so a Python thread can read it meanwhile. Writing it changes no number.
     """
     literally(kind)
     n = y0.shape[0]
@@ -696,6 +699,8 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
         fac = min(fac_max, max(0.2, 0.9 * max(en, 1e-10) ** (-1.0 / order)))
         fac_max = 5.0
         t = t_new
+        if clock is not None:
+            clock[0] = t
         y[:] = ynew
         f0[:] = fnew
         jac_fresh = False

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 import math
+import threading
 
 import numpy as np
 import xarray as xr
@@ -24,6 +25,44 @@ __all__ = ["simulate", "METHODS"]
 
 METHODS = integ.METHODS  # name -> method id, kept with the integrators
 _log = logging.getLogger("railwear.dynamics")
+POLL_S = 0.2  # how often the progress of a run in one compiled piece is read [s of wall time]
+
+
+class _Clock:
+    """The progress of one compiled run, read from its clock (``integrators.integrate`` writes
+    each accepted step's time there without the GIL) by a thread every :data:`POLL_S` seconds,
+    which calls ``progress(fraction)`` when the fraction has grown. Reading changes no number."""
+
+    def __init__(self, progress, t_end):
+        self.progress, self.t_end = progress, t_end
+        self.clock = np.zeros(1)
+        self.stop = threading.Event()
+        self.shown = -1.0
+        self.thread = threading.Thread(target=self._poll, name="railwear-progress", daemon=True)
+
+    def fraction(self):
+        return min(max(float(self.clock[0]) / self.t_end, 0.0), 1.0)
+
+    def _poll(self):
+        try:
+            while not self.stop.wait(POLL_S):
+                f = self.fraction()
+                if self.shown < f < 1.0:
+                    self.shown = f
+                    self.progress(f)
+        except BaseException as e:  # noqa: BLE001  (raised again in the caller's thread)
+            self.error = e
+
+    def __enter__(self):
+        self.error = None
+        self.thread.start()
+        return self.clock
+
+    def __exit__(self, *exc):
+        self.stop.set()
+        self.thread.join()
+        if self.error is not None and exc[0] is None:
+            raise self.error
 
 
 def _options(model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step, max_norm):
@@ -81,10 +120,11 @@ def simulate(
     Raises ``ScenarioError`` for bad options and ``NumericalInstabilityError`` if the solution
     blows up (any state above ``max_norm``), the step size underflows or ``max_steps`` is hit.
     ``initial_state`` (length ``model.n_states``) replaces the model's initial state, e.g. to
-    continue a run at another speed. For long runs, ``chunks`` splits the interval into that many
-    compiled runs (each restarting its step-size control), with a log line on the
-    ``railwear.dynamics`` logger and a call ``progress(fraction)`` after each (default 20
-    chunks when ``progress`` is given). ``cell_energy=True`` (disk wheel with a radius
+    continue a run at another speed. ``progress(fraction)`` is called as the run goes: read from
+    the compiled loop's clock by a thread every ``POLL_S`` seconds (the numbers are those of a run
+    without it, bit for bit) and with 1.0 at the end. For long runs, ``chunks`` splits the
+    interval into that many compiled runs (each restarting its step-size control), with a log
+    line on the ``railwear.dynamics`` logger and the ``progress`` call after each instead. ``cell_energy=True`` (disk wheel with a radius
     deviation grid) adds ``frictional_energy``: the frictional energy [J] each cell of the grid
     received over the run, spread uniformly over the patch as it passes (paper Figs 3 and 7).
     """
@@ -94,8 +134,9 @@ def simulate(
     t_end, integrator, t_eval = _options(
         model, t_end, method, rtol, atol, t_eval, output_every, n_output, max_steps, max_step, max_norm
     )
+    polled = chunks is None and progress is not None  # one compiled run, its clock read meanwhile
     if chunks is None:
-        chunks = 1 if progress is None else 20
+        chunks = 1
     if int(chunks) != chunks or chunks < 1:
         raise ScenarioError(f"chunks: must be a positive whole number, got {chunks!r}")
     p = model.params()
@@ -121,7 +162,11 @@ def simulate(
                 drop_all = False
         else:
             segment_eval, drop_all = None, False
-        run = integrator.run(model.kind, p, surf, y, t0, t1, t_eval=segment_eval, energy=energy)
+        if polled:
+            with _Clock(progress, t_end) as clock:
+                run = integrator.run(model.kind, p, surf, y, t0, t1, t_eval=segment_eval, energy=energy, clock=clock)
+        else:
+            run = integrator.run(model.kind, p, surf, y, t0, t1, t_eval=segment_eval, energy=energy)
         stats = run.stats if stats is None else stats + run.stats
         run.check(type(model).__name__)
         first = 1 if (i > 0 and not t_eval.size) else 0  # every-n mode repeats the segment start
