@@ -238,8 +238,32 @@ def measured_state(u, diameter):
             "band_levels": bands.band_levels(u, diameter)}
 
 
+LINEAR_KINDS = ("fourier", "multiplier")  # strategies run per sample on the scenario's own body
+
+
+def _linear_runs(samples, u0, t_end, progress=None):
+    """Each sample's scenario run by its own strategy (the Fourier technique or the multiplier law
+    on its body: the disk wheel or the wheel on the track) from ``u0`` to ``t_end``, stacked over a
+    ``speed`` dimension as the phenomenological batch gives them."""
+    runs, done = [], {}
+    for k, sample in enumerate(samples):
+        key = (sample.operation.speed_kmh, sample.wheel.static_load_kN, sample.contact.friction_coefficient)
+        if key not in done:  # samples without scatter share one run
+            done[key] = build.strategy(sample).run(u0, until=t_end).u
+        runs.append(done[key])
+        if progress is not None:
+            progress((k + 1) / len(samples))
+    speeds = [float(sample.operation.speeds) for sample in samples]
+    first = runs[0]  # every run saves the same normed times; their float values differ in the last bit
+    u = np.stack([r.transpose("time", "angle").values for r in runs])
+    return xr.Dataset({"u": (("speed", "time", "angle"), u)},
+                      coords={"speed": speeds, "time": first.time.values, "angle": first.angle.values})
+
+
 def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=201, progress=None):
-    """Distance (km) until the measured wheel reaches ``limit``, per sample.
+    """Distance (km) until the measured wheel reaches ``limit``, per sample: each sample's speed,
+    load and friction run by the scenario's Fourier technique or multiplier law on its body, or
+    else by the evolution equation of its ``[wear_rate]`` (batched over the samples).
 
     ``angle`` (rad) and ``deviation`` (m) are the measured wheel; ``limit`` a :class:`Limit`, a
     peak-to-peak deviation in m or a text (:func:`parse_limit`); ``horizon`` is in units of
@@ -256,18 +280,21 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
     scatter = bool(np.ptp(speed) > 0 or np.ptp(load) > 0 or np.ptp(friction) > 0)
     if not scatter:
         warnings.warn(NO_SCATTER, NoScatterWarning, stacklevel=2)
-    forms = []
-    for v, w, mu in zip(speed, load, friction):
-        sample = scenario.model_copy(update={
-            "wheel": scenario.wheel.model_copy(update={"static_load_kN": float(w)}),
-            "contact": scenario.contact.model_copy(update={"friction_coefficient": float(mu)})})
-        forms.append(build.wear_rate(sample))
     solver = scenario.solver
     t_end = solver.t_end if horizon is None else horizon
-    strategy = Phenomenological(forms, kmh_to_m_s(speed), solver.epsilon, solver.nu,
-                                options={"n_save": n_save, "dealias": solver.dealias, "dt": solver.dt},
-                                life_distance=build.life_distance(scenario))
-    ds = strategy.run(u0, t_end, progress=progress)
+    samples = [scenario.model_copy(update={
+        "wheel": scenario.wheel.model_copy(update={"static_load_kN": float(w)}),
+        "contact": scenario.contact.model_copy(update={"friction_coefficient": float(mu)}),
+        "operation": scenario.operation.model_copy(update={"speed_kmh": float(v), "speed_m_s": None}),
+        "solver": solver.model_copy(update={"n_save": n_save, "peak_to_peak_limit_mm": None})})
+        for v, w, mu in zip(speed, load, friction)]
+    if scenario.strategy.kind in LINEAR_KINDS:
+        ds = _linear_runs(samples, u0, t_end, progress)
+    else:
+        strategy = Phenomenological([build.wear_rate(sample) for sample in samples], kmh_to_m_s(speed), solver.epsilon,
+                                    solver.nu, options={"n_save": n_save, "dealias": solver.dealias, "dt": solver.dt},
+                                    life_distance=build.life_distance(scenario))
+        ds = strategy.run(u0, t_end, progress=progress)
     life = scenario.operation.life_distance_km
     dev = (ds.u - ds.u.mean("angle")).transpose("speed", "time", "angle")
     ptp = (dev.max("angle") - dev.min("angle")).values
