@@ -442,12 +442,27 @@ def forecast(ds):
              "out-of-roundness per sample, median and 90 % band of the crossing" if crossed.size else
              f"out-of-roundness per sample: none of {n} reaches the limit within {distance[-1]:.0f} km")
     ax.set(xlabel="distance (km)", ylabel=ylabel, title=title)
-    ax.legend(fontsize="small")
+    if "limit_m" in ds.attrs:  # a log axis from the start to a few times the limit: the limit stays in view
+        ax.set_yscale("log")
+        top = FORECAST_SPAN * limit
+        low = max(float(np.nanmin(values)), limit / 1e3)
+        ax.set_ylim(low / 1.5, max(top, low * 2))
+        if np.nanmax(values) > top:
+            ax.text(0.01, 0.98, f"axis cut at {FORECAST_SPAN:g}x the limit", transform=ax.transAxes,
+                    fontsize="x-small", va="top")
+        ax.yaxis.set_major_formatter(lambda v, _: f"{v:g}")
+        ax.yaxis.set_minor_formatter(lambda v, _: f"{v:g}" if f"{v:.0e}"[0] in "25" else "")
+    ax.xaxis.set_major_formatter(lambda v, _: f"{v:,.0f}")
+    ax.legend(fontsize="small", loc="lower right")
     if crossed.size and not above:
         hist = axes[1]
         hist.hist(crossed, bins=min(30, max(5, crossed.size // 3)), color="C0")
         hist.set(xlabel="distance at the limit (km)", ylabel="samples", title=f"{crossed.size} of {n} samples reach the limit")
+        hist.xaxis.set_major_formatter(lambda v, _: f"{v:,.0f}")
     return fig
+
+
+FORECAST_SPAN = 10.0  # the forecast's peak-to-peak axis ends at this many times the limit
 
 
 def hunting_map(map_ds):

@@ -32,3 +32,8 @@ def test_forecast_of_the_metro_case_is_its_fourier_run():
     scattered = forecast.forecast(sc, angle, deviation, 1e-4)
     assert scattered.attrs["crossing_median_km"] == pytest.approx(expected, rel=0.25)
     assert np.ptp(scattered.crossing_distance.values[np.isfinite(scattered.crossing_distance.values)]) > 0
+    from railwear import plots
+
+    ax = plots.forecast(scattered).axes[0]
+    low, high = ax.get_ylim()
+    assert ax.get_yscale() == "log" and low < 100.0 < high <= plots.FORECAST_SPAN * 100.0 * 1.01
