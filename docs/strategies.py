@@ -1,7 +1,8 @@
 """The four long-term strategies compared on the same wheel; writes docs/strategies.md.
 
 Run: python docs/strategies.py [--quick] [--output PATH]
-(``--quick``: a shorter depth and a larger factor, for the test suite; writes to PATH, default
+(``--quick``: a shorter depth and a larger factor, for the test suite, without the wheelset's
+section, which ``docs/strategies_wheelset.py --quick`` runs on its own; writes to PATH, default
 docs/strategies.md.)
 
 The disk wheel of the built-in 'direct' scenario (a rail mass on pads: the P2 resonance near
@@ -30,6 +31,7 @@ from strategies_multiplier import multiplier_section  # noqa: E402  (the multipl
 from strategies_wheelset import wheelset_section  # noqa: E402  (the wheelset's section, beside this script)
 
 QUICK = "--quick" in sys.argv
+WHEELSET_ELSEWHERE = "(The wheelset's section: `python docs/strategies_wheelset.py --quick`.)\n"
 POINTS = 32  # orders 1-16: the surface resolves the P2 orders, not the contact resonance (~500 Hz)
 DEPTH = 0.1e-3 if QUICK else 0.3e-3  # removed depth at the most worn spot (m)
 ACCELERATION = 2000.0 if QUICK else 500.0
@@ -242,7 +244,7 @@ def main():
     w(WHY)
     w(multiplier_section({kmh: (results[label][0]["direct"]["ds"], results[label][0]["direct"]["seconds"])
                           for label, kmh in SPEEDS_KMH.items()}, QUICK))
-    w(wheelset_section(QUICK))
+    w(WHEELSET_ELSEWHERE if QUICK else wheelset_section(False))
     w(USAGE)
     out.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
