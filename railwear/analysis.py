@@ -193,7 +193,8 @@ def track_receptance(scenario=None, frequencies_hz=None):
         np.atleast_1d(np.asarray(frequencies_hz, float))
     if f.ndim != 1 or f.size < 2 or not np.all(np.isfinite(f)) or f.min() <= 0 or f.max() > 1e5:
         raise ScenarioError(f"frequencies_hz: expected at least two frequencies in (0, 1e5] Hz, got {frequencies_hz!r}")
-    track, case = build.track(sc), build.vehicle_case(sc)
+    case = build.vehicle_case(sc)
+    track = case.track
     positions = ["midspan", "sleeper"] if track.discrete else ["continuous"]
     alpha = np.array([receptance(track, f, p if track.discrete else 0.0) for p in positions])
     model = VehicleTrackModel(case.wheel(build.one_speed(sc)), track, sc.track.bay_positions, case.wheel_modes)
