@@ -33,6 +33,7 @@ LIFE = 1e6  # m of running per unit normed time
 SAMPLES, SECONDS = 4, 2.0  # stepwise: draws per step and seconds gathered per draw
 UPDATE_SECONDS = 0.25  # direct: profile and table updated every this many simulated seconds
 CONTACTS = ("hertz", "multi-hertz", "semi-hertzian")  # the tables' contact models, hertz first
+QUICK_CONTACTS = ("hertz", "semi-hertzian")  # --quick: the single point and the load-sharing patch
 
 
 def settings(quick):
@@ -61,9 +62,9 @@ def centre(p):
     return float(at.A), float(at.B), float(at.b)
 
 
-def warm_up():
+def warm_up(contacts=CONTACTS):
     """Compile and load the kernels once, so that the wall times below are those of the runs."""
-    for contact in CONTACTS:
+    for contact in contacts:
         p = problem(SPEEDS["hunting"], contact)
         Direct(Wheelset(p, update_seconds=UPDATE_SECONDS), 1e5, n_save=None).run(until=0.01)
         Stepwise(Wheelset(p, seconds=0.1, samples=2), 1e-6).run(until=0.001)
@@ -127,9 +128,10 @@ def wheelset_section(quick: bool) -> str:
     on each contact model."""
     distance, limits, factors = settings(quick)
     lines = ["## The wheelset on real profiles: the worn lateral profile", ""]
-    warm_up()
+    contacts = QUICK_CONTACTS if quick else CONTACTS
+    warm_up(contacts)
     every = {}  # (contact, regime): (speed, runs, problem)
-    for contact in CONTACTS:
+    for contact in contacts:
         for regime, speed in SPEEDS.items():
             p, out = runs(speed, quick, contact)
             every[contact, regime] = (speed, out, p)
@@ -307,11 +309,12 @@ def _points_at_centre(p):
 
 def _why_contacts(every, reference, finest):
     """The bullets on what the contact models change, from the runs ``every[(contact, regime)]``."""
+    contacts = list(dict.fromkeys(c for c, _ in every))
     def ref(contact, regime):
         return every[contact, regime][1][reference][0]
 
     def each(values, unit="", fmt=mm):
-        return ", ".join(f"{c} {fmt(values[c])}{unit}" for c in CONTACTS)
+        return ", ".join(f"{c} {fmt(values[c])}{unit}" for c in contacts)
 
     def worn(contact, regime):
         ds = ref(contact, regime)
@@ -322,29 +325,29 @@ def _why_contacts(every, reference, finest):
         return "stays centred" if amplitude < 5e-5 else f"runs a cycle of up to {mm(amplitude)} mm"
 
     slow, fast = SPEEDS
-    new = [c for c in CONTACTS if c != "hertz"]
-    points = {c: _points_at_centre(every[c, slow][2]) for c in CONTACTS}
+    new = [c for c in contacts if c != "hertz"]
+    points = {c: _points_at_centre(every[c, slow][2]) for c in contacts}
     where = "; ".join(f"{c} " + " and ".join(f"{mm(y)} mm ({100 * w:.0f} %)" for y, w in zip(*points[c]))
-                      for c in CONTACTS)
+                      for c in contacts)
     apart = [float(np.ptp(points[c][0])) for c in new]
-    first = {c: every[c, slow][1][finest][0] for c in CONTACTS}
+    first = {c: every[c, slow][1][finest][0] for c in contacts}
     first_deepest = {c: float(first[c].lateral.values[np.argmax(first[c].worn_depth.values[1].mean(0))])
-                     for c in CONTACTS}
-    vc = {c: critical_speed(every[c, slow][2].model) for c in CONTACTS}
-    vc_worn = {(c, r): worn_critical_speed(every[c, r][2], ref(c, r)) for c in CONTACTS for r in SPEEDS}
-    amplitude = {(c, r): float(np.max(ref(c, r).lateral_amplitude[1:])) for c in CONTACTS for r in SPEEDS}
-    start = {c: float(every[c, fast][1][finest][0].lateral_amplitude[1]) for c in CONTACTS}
-    calm = [c for c in CONTACTS if start[c] < 1e-3]
+                     for c in contacts}
+    vc = {c: critical_speed(every[c, slow][2].model) for c in contacts}
+    vc_worn = {(c, r): worn_critical_speed(every[c, r][2], ref(c, r)) for c in contacts for r in SPEEDS}
+    amplitude = {(c, r): float(np.max(ref(c, r).lateral_amplitude[1:])) for c in contacts for r in SPEEDS}
+    start = {c: float(every[c, fast][1][finest][0].lateral_amplitude[1]) for c in contacts}
+    calm = [c for c in contacts if start[c] < 1e-3]
     later = {c: ref(c, fast).lateral_amplitude.values[2:] for c in calm}
-    cost = {c: sum(every[c, r][1][reference][1] for r in SPEEDS) for c in CONTACTS}
-    total = {c: sum(w for r in SPEEDS for _, w in every[c, r][1].values()) for c in CONTACTS}
-    tables = {c: sum(int(ds.cost_tables) for r in SPEEDS for ds, _ in every[c, r][1].values()) for c in CONTACTS}
+    cost = {c: sum(every[c, r][1][reference][1] for r in SPEEDS) for c in contacts}
+    total = {c: sum(w for r in SPEEDS for _, w in every[c, r][1].values()) for c in contacts}
+    tables = {c: sum(int(ds.cost_tables) for r in SPEEDS for ds, _ in every[c, r][1].values()) for c in contacts}
     labels = list(every["hertz", fast][1])
     steps = [label for label in labels if label.startswith("stepwise")]
     directs = [label for label in labels if label.startswith("direct") and label != reference]
 
     def differences(regime, chosen):
-        return "; ".join(f"{c} {_differences(every[c, regime][1], reference, chosen)}" for c in CONTACTS)
+        return "; ".join(f"{c} {_differences(every[c, regime][1], reference, chosen)}" for c in contacts)
 
     hunting = each(start, " mm")
     spread = {(c, r): max(relative_l2(ds, ref(c, r)) for label, (ds, _) in every[c, r][1].items() if label != reference)
@@ -356,8 +359,8 @@ def _why_contacts(every, reference, finest):
         f"critical speed {vc[c]:.1f} m/s, and no large cycle is reached); it wears the two contacts' "
         f"grooves and then runs a small cycle, up to {mm(later[c].max())} mm ({mm(later[c][-1])} mm at the end)."
         for c in calm)
-    large = [c for c in CONTACTS if c not in calm]
-    own = {(c, r): relative_l2(every[c, r][1][directs[-1]][0], ref(c, r)) for c in CONTACTS for r in SPEEDS}
+    large = [c for c in contacts if c not in calm]
+    own = {(c, r): relative_l2(every[c, r][1][directs[-1]][0], ref(c, r)) for c in contacts for r in SPEEDS}
     ratio = [float(np.min(every[c, slow][2].model.table.point_b.sel(y=0.0, side="right")[:2])
                    / np.max(every[c, slow][2].model.table.point_b.sel(y=0.0, side="right")[:2])) for c in new]
     return "\n".join([
@@ -368,20 +371,20 @@ def _why_contacts(every, reference, finest):
         + ", ".join(f"{mm(float(every[c, slow][2].model.table.point_b.sel(y=0.0, side='right')[0]))} / "
                     f"{mm(float(every[c, slow][2].model.table.point_b.sel(y=0.0, side='right')[1]))} mm" for c in new)
         + f" against the single point's {mm(float(every['hertz', slow][2].model.table.b.sel(y=0.0, side='right')))} mm). "
-        f"In the first step of centred running ({SPEEDS[slow]:g} m/s) the band is {each({c: band(first[c], 1) for c in CONTACTS}, ' mm')} "
+        f"In the first step of centred running ({SPEEDS[slow]:g} m/s) the band is {each({c: band(first[c], 1) for c in contacts}, ' mm')} "
         f"and the deepest point at {each(first_deepest, ' mm')}: on the new contact the narrow second patch "
         f"(its share of the power on {', '.join(f'{100 * r:.0f}' for r in ratio)} % of the main patch's "
         f"width) wears fastest. The linear critical speed "
         f"on the new profiles is {each(vc, ' m/s', lambda v: f'{v:.1f}')}.",
         f"- **Several contacts per wheel: what the wear does.** After {float(ref('hertz', slow).distance[-1]):g} km "
-        f"of centred running ({SPEEDS[slow]:g} m/s, reference runs): " + "; ".join(worn(c, slow) for c in CONTACTS)
+        f"of centred running ({SPEEDS[slow]:g} m/s, reference runs): " + "; ".join(worn(c, slow) for c in contacts)
         + ". From the start the wear goes into two grooves, under the main patch and under the second "
         "one, where the single point wears one band; the worn profile's linear critical speed falls to "
-        + each({c: vc_worn[c, slow] for c in CONTACTS}, " m/s", lambda v: f"{v:.1f}")
-        + ", and over the run the wheelset " + ", ".join(f"{motion(amplitude[c, slow])} on {c}" for c in CONTACTS)
+        + each({c: vc_worn[c, slow] for c in contacts}, " m/s", lambda v: f"{v:.1f}")
+        + ", and over the run the wheelset " + ", ".join(f"{motion(amplitude[c, slow])} on {c}" for c in contacts)
         + f". Hunting speed ({SPEEDS[fast]:g} m/s, starts of 1-3 mm): the largest lateral displacement after the "
         f"first transients is {hunting}."
-        + calm_text + " Worn: " + "; ".join(worn(c, fast) for c in CONTACTS)
+        + calm_text + " Worn: " + "; ".join(worn(c, fast) for c in contacts)
         + ". Relative L2 difference of the final lateral depth from hertz's: "
         + ", ".join(f"{c} {l2[c, r]:.2f} ({SPEEDS[r]:g} m/s)" for c in new for r in SPEEDS)
         + (", each above the largest difference of that model's strategies from its own reference ("
@@ -400,11 +403,11 @@ def _why_contacts(every, reference, finest):
         f"not always monotonically (near the onset of a small cycle the random starts fall on either "
         f"side, as described above for hertz), and the reference's own error, about its difference from "
         f"the run at twice its factor, is "
-        + ", ".join(f"{c} {own[c, r]:.3f} ({SPEEDS[r]:g} m/s)" for c in CONTACTS for r in SPEEDS)
+        + ", ".join(f"{c} {own[c, r]:.3f} ({SPEEDS[r]:g} m/s)" for c in contacts for r in SPEEDS)
         + ". The cost is in "
         f"the tables: the reference runs of both speeds take {each(cost, ' s', lambda v: f'{v:.1f}')} of wall "
         f"time, all the runs of the comparison "
-        + ", ".join(f"{c} {total[c]:.0f} s ({tables[c]} tables)" for c in CONTACTS) + ".",
+        + ", ".join(f"{c} {total[c]:.0f} s ({tables[c]} tables)" for c in contacts) + ".",
     ])
 
 
