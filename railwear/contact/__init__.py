@@ -15,6 +15,7 @@ from railwear.contact.fastsim import (
     fastsim_batch,
     flexibilities,
 )
+from railwear.contact.halfspace import HalfSpaceContact, HalfSpacePatch, halfspace_contact
 from railwear.contact.hertz import HertzContact, effective_modulus, hertz_contact, hertz_mnr
 from railwear.contact.kalker import LinearCreepForces, kalker_coefficients, linear_creep_forces
 from railwear.contact.saturation import (
@@ -29,6 +30,8 @@ __all__ = [
     "CREEP_CURVE_POINTS",
     "FastsimBatchResult",
     "FastsimResult",
+    "HalfSpaceContact",
+    "HalfSpacePatch",
     "HertzContact",
     "LinearCreepForces",
     "POLACH_DRY",
@@ -42,6 +45,7 @@ __all__ = [
     "fastsim_creep_curve",
     "fastsim_factor_table",
     "flexibilities",
+    "halfspace_contact",
     "hertz_contact",
     "hertz_mnr",
     "kalker_coefficients",
