@@ -188,9 +188,10 @@ class VehicleTrackModel:
                 "normal_force": a * normal}
 
     def power_load_split(self, angular_frequency):
-        """``(P, Q)`` with ``π̂/ū = P + Q N̂/ū`` at each offset, complex: the wheel's rotation
-        (``J Ω' = T - (R0 + ū) Fx``) solved for the creepage given the load, so that ``P`` and
-        ``Q`` hold only the rotation and the contact, not the vertical dynamics or the rail."""
+        """``(P, Q)`` with ``π̂/ū = P + Q N̂/ū`` at every offset, complex, ``(len(ω),)`` each: the
+        wheel's rotation (``J Ω' = T - (R0 + ū) Fx``) solved for the creepage given the load, so
+        that ``P`` and ``Q`` hold only the rotation and the contact, not the vertical dynamics or
+        the rail (the same at every offset)."""
         A, B, c, d = self._linear
         out = self.LINEAR_OUTPUTS
         n, xi = out.index("normal_force"), out.index("creepage")

@@ -61,7 +61,8 @@ def test_sensitivities_meet_their_closed_forms_without_saturation():
         orders = np.arange(1, 41)
         parts = case.growth_parts(v, orders, LAW)
         c = LAW.beta / (2 * np.pi * radius * case.band_width)
-        expected = -c * 2 * v * force * (1 + xi0) / radius * contact_filter(orders, wheel.patch_half_length / radius) ** 2
+        filt = contact_filter(orders, wheel.patch_half_length / radius) ** 2
+        expected = -c * 2 * v * force * (1 + xi0) / radius * filt
         np.testing.assert_allclose(parts["rolling_radius"], expected, rtol=1e-6)
     # With μ = 0.4 the saturation lowers ∂F/∂ξ a little: b 1.5 % under 2 V F0 at 300 km/h.
     v = kmh_to_m_s(300.0)
@@ -78,9 +79,10 @@ def undamped_mode_at_the_bound(model, omega):
     q = Q[0]
     target = 1j / (2 * y) - np.conj(q) / abs(q) / (2 * y)  # the disk's point against Q
     z = 1 / target
-    rest = (1 / model.wheel.contact_stiffness + model.rail_receptance(omega)[0, 0]
-            + 1 / (-model.wheel.wheel_mass * omega**2 + model.wheel.primary_stiffness * (-model.wheel.sprung_mass * omega**2)
-                   / (model.wheel.primary_stiffness - model.wheel.sprung_mass * omega**2)))
+    w = model.wheel
+    frame = -w.sprung_mass * omega**2
+    wheel_stiffness = -w.wheel_mass * omega**2 + w.primary_stiffness * frame / (w.primary_stiffness + frame)
+    rest = 1 / w.contact_stiffness + model.rail_receptance(omega)[0, 0] + 1 / wheel_stiffness
     compliance = (z - rest).real
     assert abs((z - rest).imag) < 1e-6 * abs(z)
     omega_k = 2 * omega if compliance > 0 else omega / 2
