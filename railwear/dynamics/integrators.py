@@ -163,6 +163,14 @@ _ROS_E32 = 6.0 + math.sqrt(2.0)
 
 
 @njit(cache=True)
+def _copy(dst, src):
+    """``dst[:] = src`` element by element: numba's array assignment compiles a shape check with
+    its error message, a large part of the integrator's compile."""
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(cache=True)
 def _error_norm(err, y, ynew, rtol, atol):
     acc = 0.0
     for i in range(y.shape[0]):
@@ -216,12 +224,12 @@ def _explicit_step(kind, p, surf, t, y, f0, h, a, c, n_stages, ynew, fnew, k, tm
     """Stages ``k[:n_stages]`` of an explicit FSAL pair (tableau ``a``, nodes ``c``): the last stage
     is evaluated at the new solution, which goes to ``ynew``, and its RHS to ``fnew``. The model is
     called, not inlined: inlined twice (both explicit methods) it took most of a cold compile."""
-    k[0, :] = f0
+    _copy(k[0], f0)
     for s in range(1, n_stages):
         _stage_state(a, s, y, h, k, tmp)
         rhs_call(kind, t + c[s] * h, tmp, p, surf, k[s])
-    ynew[:] = tmp
-    fnew[:] = k[n_stages - 1]
+    _copy(ynew, tmp)
+    _copy(fnew, k[n_stages - 1])
 
 
 @njit(cache=True)
@@ -321,7 +329,7 @@ def _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, ftmp):
     n = y.shape[0]
     root_eps = 1.4901161193847656e-08
     for j in range(n):
-        tmp[:] = y
+        _copy(tmp, y)
         delta = root_eps * max(abs(y[j]), atol / rtol)
         tmp[j] = y[j] + delta
         delta = tmp[j] - y[j]
@@ -387,8 +395,9 @@ def _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r):
 def _grow(ts, ys, n_used):
     ts2 = np.empty(2 * ts.shape[0])
     ys2 = np.empty((2 * ts.shape[0], ys.shape[1]))
-    ts2[:n_used] = ts[:n_used]
-    ys2[:n_used] = ys[:n_used]
+    for j in range(n_used):
+        ts2[j] = ts[j]
+        _copy(ys2[j], ys[j])
     return ts2, ys2
 
 
@@ -396,7 +405,9 @@ def _grow(ts, ys, n_used):
 def _hermite(y, ynew, f0, fnew, h, q):
     """Cubic Hermite interpolant of a step from its end values and slopes, as ``_dense``
     coefficients (for locating a switch in a rejected step, whose own interpolant is not built)."""
-    q[:, 3:] = 0.0
+    for i in range(q.shape[0]):
+        for c in range(3, q.shape[1]):
+            q[i, c] = 0.0
     for i in range(y.shape[0]):
         d = (ynew[i] - y[i]) / h
         q[i, 0] = f0[i]
@@ -528,12 +539,12 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
     if dense_mode:
         while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t0:
             ts[n_out] = t_eval[i_eval]
-            ys[n_out] = y
+            _copy(ys[n_out], y)
             n_out += 1
             i_eval += 1
     else:
         ts[0] = t0
-        ys[0] = y
+        _copy(ys[0], y)
         n_out = 1
 
     order = 5.0 if method == METHOD_DOPRI5 else (8.0 if method == METHOD_DOP853 else 3.0)
@@ -668,11 +679,12 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
             if n_ev == ev_cap:
                 ev_t2, ev_y2 = _grow(ev_t, ev_y, n_ev)
                 ev_dir2 = np.empty(2 * ev_cap, dtype=np.int64)
-                ev_dir2[:n_ev] = ev_dir[:n_ev]
+                for j in range(n_ev):
+                    ev_dir2[j] = ev_dir[j]
                 ev_t, ev_y, ev_dir = ev_t2, ev_y2, ev_dir2
                 ev_cap *= 2
             ev_t[n_ev] = t_new
-            ev_y[n_ev] = ynew
+            _copy(ev_y[n_ev], ynew)
             ev_dir[n_ev] = hit
             n_ev += 1
         if energy.shape[0] > 0:
@@ -694,15 +706,15 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
             if n_out == ts.shape[0]:
                 ts, ys = _grow(ts, ys, n_out)
             ts[n_out] = t_new
-            ys[n_out] = ynew
+            _copy(ys[n_out], ynew)
             n_out += 1
         fac = min(fac_max, max(0.2, 0.9 * max(en, 1e-10) ** (-1.0 / order)))
         fac_max = 5.0
         t = t_new
         if clock is not None:
             clock[0] = t
-        y[:] = ynew
-        f0[:] = fnew
+        _copy(y, ynew)
+        _copy(f0, fnew)
         jac_fresh = False
         if last:
             break
