@@ -302,7 +302,10 @@ def plot(
     except (OSError, ValueError) as e:
         _fail(f"{result} is not a railwear result: {e}", 2)
     if any(known(ds) for known, _, _ in _FILES):
-        paths = _draw(ds, directory, fmt, dpi)
+        try:
+            paths = _draw(ds, directory, fmt, dpi)
+        except ScenarioError as e:
+            _fail(f"{result}: {e}", 2)
         if not paths:
             _fail(f"{result}: no point of the sweep ran (see its error variable); nothing to draw", 2)
     else:
@@ -503,6 +506,23 @@ def forecast(
     typer.echo(f"wrote {output / 'forecast.nc'}")
 
 
+def _hunting_file(ds):
+    """The hunting map by the speed convention of every file railwear writes: ``critical_speed``
+    in m s-1 and ``critical_speed_kmh`` in km h-1 beside it (``inf`` where stable at every speed)."""
+    import numpy as np
+
+    from railwear.api import SPEED_KMH_DECIMALS
+    from railwear.results import speed_in
+    from railwear.units import m_s_to_kmh
+
+    given = ds.critical_speed
+    long_name = given.attrs.get("long_name", "linear critical speed of hunting")
+    v = speed_in(given, "m s-1")
+    kmh = np.round(m_s_to_kmh(v), SPEED_KMH_DECIMALS)
+    return ds.assign(critical_speed=(given.dims, v, {"units": "m s-1", "long_name": long_name}),
+                     critical_speed_kmh=(given.dims, kmh, {"units": "km h-1", "long_name": long_name}))
+
+
 @app.command("hunting-map")
 def hunting_map(
     scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name ([wheelset], [wheel], [contact])")] = None,
@@ -523,12 +543,12 @@ def hunting_map(
     _figure_options(fmt, dpi)
     _output(output)
     try:
-        ds = sweeps.hunting_map(api.load_scenario(scenario), lam, kpsi)
+        ds = _hunting_file(sweeps.hunting_map(api.load_scenario(scenario), lam, kpsi))
     except ScenarioError as e:
         _fail(str(e), 2)
     results.write_netcdf(ds, output / "hunting.nc")
     _draw(ds, output, fmt, dpi)
-    v = ds.critical_speed.values
+    v = ds.critical_speed_kmh.values
     low = np.unravel_index(np.argmin(v), v.shape)
     typer.echo(f"lowest critical speed {v[low]:.0f} km/h at conicity {lam[low[0]]:g}, "
                f"yaw stiffness {kpsi[low[1]]:g} N m/rad; stable at every speed at {np.isinf(v).sum()} of {v.size} points")

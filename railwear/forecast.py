@@ -213,6 +213,17 @@ NO_SCATTER = ("the scenario's [service] gives every sample the same speed, load 
               "load_scatter or friction_range, or more than one speed peak)")
 
 
+def _speeds(speed_kmh):
+    """The samples' drawn speeds (km/h) by the convention of every file railwear writes:
+    ``speed`` in m s-1 (the speed each sample ran) and ``speed_kmh`` in km h-1 beside it."""
+    from railwear.api import speed_coordinates
+
+    ds = speed_coordinates(xr.Dataset(), kmh_to_m_s(np.asarray(speed_kmh, float)), "sample")
+    for name in ("speed", "speed_kmh"):
+        ds[name].attrs["long_name"] = "drawn vehicle speed of the sample"
+    return {name: ds[name] for name in ("speed", "speed_kmh")}
+
+
 def crossing(time, peak_to_peak, limit):
     """First time the peak-to-peak reaches ``limit``, interpolated linearly; ``inf`` if never."""
     above = np.flatnonzero(peak_to_peak >= limit)
@@ -320,7 +331,7 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
                               {"units": "km", "long_name": "distance until the limit is reached (inf: not within the horizon)"}),
         "dominant_order": (("sample",), orders,
                            {"units": "1", "long_name": "dominant polygon order at the crossing (at the horizon if none)"}),
-        "speed": (("sample",), speed, {"units": "km h-1", "long_name": "vehicle speed"}),
+        **{name: (("sample",), v.values, dict(v.attrs)) for name, v in _speeds(speed).items()},
         "static_load": (("sample",), load, {"units": "kN", "long_name": "static wheel load"}),
         "friction_coefficient": (("sample",), friction, {"units": "1", "long_name": "friction coefficient"}),
         "u_initial": (("angle",), u0, {"units": "m", "long_name": "measured radius deviation on the grid"}),

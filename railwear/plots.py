@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railwear.results import _atomic
+from railwear.results import _atomic, speed_in
 from railwear.units import HOUR, MM, MN, PM, UM, m_s_to_kmh
 
 
@@ -466,9 +466,10 @@ FORECAST_SPAN = 10.0  # the forecast's peak-to-peak axis ends at this many times
 
 
 def hunting_map(map_ds):
-    """Linear critical speed over conicity and yaw stiffness, as a filled contour map."""
+    """Linear critical speed over conicity and yaw stiffness, as a filled contour map in km/h
+    (the file's ``critical_speed`` is read by its ``units``: m s-1, or km h-1 in earlier files)."""
+    speed = speed_in(map_ds.critical_speed.transpose("yaw_stiffness", "conicity"), "km h-1")
     fig, (ax,) = _figure(7, 4.5)
-    speed = map_ds.critical_speed.transpose("yaw_stiffness", "conicity").values
     finite = np.where(np.isfinite(speed), speed, np.nan)
     levels = np.linspace(np.nanmin(finite), min(np.nanmax(finite), 3 * np.nanmin(finite) + 500), 15) \
         if np.isfinite(finite).any() else 10

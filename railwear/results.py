@@ -12,7 +12,7 @@ import xarray as xr
 from numpy.lib.npyio import NpzFile
 
 from railwear.errors import CheckpointError, ScenarioError
-from railwear.units import MM, MM3, UM, m_s_to_kmh
+from railwear.units import MM, MM3, UM, kmh_to_m_s, m_s_to_kmh
 
 
 PART = ".part"  # the suffix of a file being written; never read as a result
@@ -96,6 +96,23 @@ def write_array(array, path):
             np.save(f, np.asarray(array), allow_pickle=False)
 
     return _atomic(path, write)
+
+
+SPEED_UNITS = ("m s-1", "km h-1")  # the units attributes of the speeds railwear writes
+
+
+def speed_in(var, units):
+    """The values of the speed variable ``var`` in ``units`` ('m s-1' or 'km h-1'), read by its
+    own ``units`` attribute (files of earlier versions kept some speeds in km h-1); a speed in no
+    unit railwear writes is refused naming the variable (:class:`ScenarioError`)."""
+    given = var.attrs.get("units")
+    if given not in SPEED_UNITS:
+        raise ScenarioError(f"{var.name}: a speed in units {given!r}, expected "
+                            f"{' or '.join(repr(u) for u in SPEED_UNITS)}")
+    values = np.asarray(var.values, float)
+    if given == units:
+        return values
+    return kmh_to_m_s(values) if units == "m s-1" else m_s_to_kmh(values)
 
 
 def read_netcdf(path):

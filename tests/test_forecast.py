@@ -74,7 +74,7 @@ def test_known_crossing_lies_in_the_monte_carlo_band(tmp_path):
     expected = known_crossing_km(100.0)
     assert ds.attrs["crossing_p05_km"] < expected < ds.attrs["crossing_p95_km"]
     # each sample crosses where its own speed says, or not within the horizon
-    known = known_crossing_km(ds.speed.values)
+    known = known_crossing_km(ds.speed_kmh.values)
     inside = known < ds.attrs["horizon_km"]
     np.testing.assert_allclose(ds.crossing_distance.values[inside], known[inside], rtol=2e-3)
     assert np.all(np.isinf(ds.crossing_distance.values[~inside]))

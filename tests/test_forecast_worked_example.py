@@ -51,7 +51,7 @@ def test_the_worked_example_prints_what_the_page_shows(ran):
 def test_the_claims_after_it(ran):
     _, _, ds, path, tmp = ran
     crossed = np.isfinite(ds.crossing_distance.values)
-    assert crossed.sum() == 4 and np.all(ds.speed.values[crossed] >= 245) and np.all(ds.speed.values[~crossed] < 245)
+    assert crossed.sum() == 4 and np.all(ds.speed_kmh.values[crossed] >= 245) and np.all(ds.speed_kmh.values[~crossed] < 245)
     text = (DOCS / "outputs.md").read_text(encoding="utf-8")
     said = re.search(r"`(already above the limit at 0 km[^`]*)`", text).group(1)
     result = CliRunner().invoke(app, ["forecast", str(path), "--scenario", "forecast", "--nominal-diameter", "920mm",

@@ -65,15 +65,82 @@ def test_sweeps_over_the_speed_and_over_another_field(tmp_path):
     _both(sampled, [18.0, 45.0], ("sample",))
 
 
-def test_speeds_that_are_results_say_km_h_in_their_units():
+def _small_forecast(samples=3):
     from railwear import forecast
     from railwear.scenario import load_scenario
 
-    m = sweep.hunting_map(load_scenario("polygonalisation"), np.array([0.1]), np.array([2e6]))
-    assert m.critical_speed.attrs["units"] == "km h-1" and "speed" not in m.coords
     sc = load_scenario("forecast")
     sc = sc.model_copy(update={"solver": sc.solver.model_copy(update={"points": 64}),
-                               "service": sc.service.model_copy(update={"samples": 2})})
+                               "service": sc.service.model_copy(update={"samples": samples})})
     x = 2 * np.pi * np.arange(64) / 64
-    ds = forecast.forecast(sc, x, 10e-6 * np.cos(3 * x), 0.1e-3, horizon=0.01, n_save=3)
-    assert ds.speed.attrs["units"] == "km h-1" and ds.speed.dims == ("sample",)
+    return sc, forecast.forecast(sc, x, 10e-6 * np.cos(3 * x), 0.1e-3, horizon=0.01, n_save=3)
+
+
+def test_forecast_files_give_each_sample_its_speed_in_m_s(tmp_path):
+    from railwear import forecast
+
+    sc, ds = _small_forecast()
+    drawn_kmh = forecast.draw_conditions(sc)[0]
+    results.write_netcdf(ds, tmp_path / "forecast.nc")
+    for d in (ds, results.read_netcdf(tmp_path / "forecast.nc")):
+        speed, speed_kmh = d["speed"], d["speed_kmh"]
+        assert speed.attrs["units"] == "m s-1" and speed_kmh.attrs["units"] == "km h-1"
+        assert speed.dims == speed_kmh.dims == ("sample",)
+        # the speed each sample ran (the scenario's own km/h -> m/s), and its km/h for reading
+        np.testing.assert_array_equal(speed.values, drawn_kmh / 3.6)
+        np.testing.assert_allclose(speed_kmh.values, drawn_kmh, rtol=0, atol=1e-6)
+        assert np.ptp(speed.values) > 0  # the samples did draw different speeds
+
+
+def _hunting(tmp_path):
+    r = CliRunner().invoke(app, ["hunting-map", "polygonalisation", "--conicity", "0.05,0.2",
+                                 "--yaw-stiffness", "2e6,1e7,1e8", "-o", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    return r.output, results.read_netcdf(tmp_path / "hunting.nc")
+
+
+def test_hunting_files_give_the_critical_speed_in_m_s(tmp_path):
+    from railwear.scenario import load_scenario
+
+    output, ds = _hunting(tmp_path)
+    kmh = sweep.hunting_map(load_scenario("polygonalisation"), [0.05, 0.2], [2e6, 1e7, 1e8]).critical_speed
+    speed, speed_kmh = ds["critical_speed"], ds["critical_speed_kmh"]
+    assert speed.attrs["units"] == "m s-1" and speed_kmh.attrs["units"] == "km h-1"
+    assert speed.dims == speed_kmh.dims == ("conicity", "yaw_stiffness")
+    finite = np.isfinite(kmh.values)
+    assert finite.any() and (~finite).any()  # stiff in yaw: stable at every speed, inf in both
+    np.testing.assert_array_equal(np.isinf(speed.values), ~finite)
+    np.testing.assert_allclose(speed.values[finite], kmh.values[finite] / 3.6, rtol=1e-15)
+    np.testing.assert_allclose(speed_kmh.values[finite], kmh.values[finite], rtol=0, atol=1e-6)
+    assert f"lowest critical speed {np.min(kmh.values):.0f} km/h" in output
+
+
+def _as_before(ds, name):
+    """``ds`` as the version before this convention wrote it: ``name`` in km h-1, no ``*_kmh``."""
+    old = ds.drop_vars(f"{name}_kmh")
+    return old.assign({name: old[name].copy(data=old[name].values * 3.6).assign_attrs(units="km h-1")})
+
+
+def test_plot_draws_the_files_of_the_version_before(tmp_path):
+    from matplotlib.image import imread
+
+    _, new = _hunting(tmp_path / "new")
+    _, forecast_ds = _small_forecast()
+    old = {"hunting.nc": _as_before(new, "critical_speed"), "forecast.nc": _as_before(forecast_ds, "speed")}
+    for name, ds in old.items():
+        results.write_netcdf(ds, tmp_path / "old" / name)
+        r = CliRunner().invoke(app, ["plot", str(tmp_path / "old" / name), "-o", str(tmp_path / "old")])
+        assert r.exit_code == 0, r.output
+    # the km/h of the old file is read by its units: the same map as from the new file
+    np.testing.assert_array_equal(imread(tmp_path / "old" / "hunting.png"), imread(tmp_path / "new" / "hunting.png"))
+    assert (tmp_path / "old" / "forecast.png").is_file()
+
+
+def test_plot_refuses_a_speed_in_an_unknown_unit_in_one_line(tmp_path):
+    _, ds = _hunting(tmp_path)
+    ds["critical_speed"].attrs["units"] = "mph"
+    results.write_netcdf(ds.drop_vars("critical_speed_kmh"), tmp_path / "odd" / "hunting.nc")
+    r = CliRunner().invoke(app, ["plot", str(tmp_path / "odd" / "hunting.nc")])
+    assert r.exit_code == 2
+    assert r.output.count("\n") == 1 and "critical_speed" in r.output and "'mph'" in r.output
+    assert "Traceback" not in r.output and not (tmp_path / "odd" / "hunting.png").exists()
