@@ -46,8 +46,8 @@ HALF_LENGTH = 9.6e-3  # m: half the window along rolling
 STEP, QUICK_STEP = 0.1e-3, 0.3e-3  # element size (both directions)
 PUBLISHED = (5.95e-3, 6.65e-3)  # the published single patch at y = 0, 66.7 kN (a, b)
 SENSITIVITY = {"gauge 1.434 m": dict(gauge=1.434), "gauge 1.436 m": dict(gauge=1.436),
-               "rail 1:30": dict(cant=1.0 / 30.0), "wheel radius 0.43 m": dict(rolling_radius=0.43),
-               "wheel radius 0.50 m": dict(rolling_radius=0.50)}
+               "rail 1:30": dict(cant=1.0 / 30.0), "rail 1:20": dict(cant=1.0 / 20.0),
+               "wheel radius 0.43 m": dict(rolling_radius=0.43), "wheel radius 0.50 m": dict(rolling_radius=0.50)}
 
 
 @dataclass
@@ -129,6 +129,7 @@ class Wheel:
             ys = y0 + s * c
             radius = self.setup["rolling_radius"] + self.wheel(ys)
             gs = self.gap(ys)
+            gs = np.where(np.isfinite(gs), gs, 1.0)  # no rail under these points: far apart
             h = ((gs - g[ref])[None, :] + x[:, None] ** 2 / (2.0 * radius[None, :])) * c
             region = Region(y0, float(g[ref]), gam, x, s, h)
             region.watersheds = [float(yw[sheds[m]]) for m in members[:-1]]

@@ -68,7 +68,12 @@ class Profile:
         y, z = y[keep], z[keep]
         object.__setattr__(self, "y", y)
         object.__setattr__(self, "z", z)
-        object.__setattr__(self, "_spline", CubicSpline(y, z, bc_type="natural"))
+        spline = CubicSpline(y, z, bc_type="natural")
+        swing = np.max(np.abs(spline(0.5 * (y[1:] + y[:-1])) - 0.5 * (z[1:] + z[:-1])))
+        if not swing <= np.ptp(z):
+            raise ScenarioError(f"profile {self.name!r}: its spline swings {swing:.3g} m between points; points "
+                                f"nearly repeat in y (a near-vertical face?), drop them")
+        object.__setattr__(self, "_spline", spline)
 
     @property
     def span(self):
@@ -109,7 +114,28 @@ class Profile:
         # moves down (z grows), i.e. a rotation y' = c y + s z, z' = -s y + c z
         y = c * self.y + s * self.z
         z = -s * self.y + c * self.z
-        return Profile(y=y, z=z, kind=self.kind, name=self.name, cant=float(inclination))
+        keep = _visible(y)
+        return Profile(y=y[keep], z=z[keep], kind=self.kind, name=self.name, cant=float(inclination))
+
+
+def _visible(y, spacing=1e-9):
+    """Points of a rotated profile (in the order of the unrotated one) that stay a function of
+    ``y``: walking out from the point nearest ``y = 0`` to either side, a side ends where ``y``
+    turns back (a near-vertical face rotated past the vertical: its lower part is hidden under
+    the corner), and points nearer than ``spacing`` [m] to the last kept one are dropped (they
+    make the interpolating spline swing by metres)."""
+    keep = np.zeros(y.size, dtype=bool)
+    start = int(np.argmin(np.abs(y)))
+    keep[start] = True
+    for step in (1, -1):
+        last = y[start]
+        for i in range(start + step, y.size if step > 0 else -1, step):
+            if step * (y[i] - last) < 0.0:
+                break
+            if step * (y[i] - last) >= spacing:
+                keep[i] = True
+                last = y[i]
+    return keep
 
 
 def worn_profile(profile, deviation, y=None):

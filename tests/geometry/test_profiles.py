@@ -3,6 +3,7 @@ import pytest
 
 from railwear.errors import ScenarioError
 from railwear.geometry.profiles import (
+    Profile,
     circular_profile,
     conical_profile,
     load_profile,
@@ -91,3 +92,37 @@ def test_worn_profile():
     assert len(rows) == 2 and rows[1](0.0) == pytest.approx(-2e-4, abs=1e-9)
     with pytest.raises(ScenarioError, match="deviation"):
         worn_profile(w, u[:-1])
+
+
+@pytest.mark.parametrize("inclination", [1 / 20, 1 / 10, 0.0])
+def test_recanted_rail_stays_a_function_of_y(inclination):
+    """UIC60 re-canted from its 1/40: the near-vertical gauge face rotated past the vertical folds
+    back under the corner; the hidden part is dropped, so the spline stays on the head (it had
+    swung by kilometres at 1/20) and rotating back to 1/40 gives the original head to 1e-9 m."""
+    rail = load_profile("UIC60")
+    tilted = rail.canted(inclination)
+    assert np.all(np.diff(tilted.y) > 0.0)
+    ys = np.linspace(*tilted.span, 20001)
+    assert np.max(np.abs(tilted(ys))) < np.max(np.abs(rail.z)) + 1e-3
+    back = tilted.canted(1 / 40)
+    head = np.linspace(-0.030, 0.028, 300)  # crown and gauge corner, away from the dropped face
+    np.testing.assert_allclose(back(head), rail(head), atol=1e-9)
+
+
+def test_contact_table_on_a_rail_at_1_in_20():
+    """S1002 on UIC60 at 1/20: finite Hertz patches near the tread at small shifts (it had put the
+    axle 110 mm low with b = 0.4 um)."""
+    from railwear.geometry import contact_table
+
+    table = contact_table(load_profile("S1002"), load_profile("UIC60"), y=np.array([-0.002, 0.0, 0.002]), cant=1 / 20)
+    right = table.sel(side="right")
+    assert np.all(np.abs(right.rolling_radius.values - 0.46) < 1e-3)
+    assert np.all((right.a.values > 2e-3) & (right.a.values < 15e-3))
+    assert np.all((right.b.values > 1e-3) & (right.b.values < 15e-3))
+
+
+def test_a_spline_that_swings_between_points_is_refused():
+    rail = load_profile("UIC60")
+    c, s = np.cos(0.025), np.sin(0.025)
+    with pytest.raises(ScenarioError, match="swings"):
+        Profile(y=c * rail.y + s * rail.z, z=-s * rail.y + c * rail.z, kind="rail", name="raw")
