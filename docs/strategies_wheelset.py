@@ -156,8 +156,9 @@ def wheelset_section(quick: bool) -> str:
         f"Reference: {reference}. Everything is run on each contact model of the tables "
         f"(`[wheelset_wear] contact_model`, `docs/contact.md`): **hertz** one rigid point per wheel "
         f"carrying the load; **multi-hertz** and **semi-hertzian** every local minimum of the gap a "
-        f"contact, the load shared, the dynamics on their resultant, and each contact worn at its own "
-        f"position under its own patch by its creep share of the frictional power.",
+        f"contact, the load shared, the dynamics evaluating each contact on its own (its creepages, "
+        f"Kalker coefficients and saturation), and each contact worn at its own position under its own "
+        f"patch by its own frictional power.",
         "",
         "Hertz contact. Regime, contact positions and worn band: on the new profiles (the first stepwise step, "
         f"{finest}) and over the whole reference run. Largest lateral displacement: after the "
@@ -373,7 +374,7 @@ def _why_contacts(every, reference, finest):
         + f" against the single point's {mm(float(every['hertz', slow][2].model.table.b.sel(y=0.0, side='right')))} mm). "
         f"In the first step of centred running ({SPEEDS[slow]:g} m/s) the band is {each({c: band(first[c], 1) for c in contacts}, ' mm')} "
         f"and the deepest point at {each(first_deepest, ' mm')}: on the new contact the narrow second patch "
-        f"(its share of the power on {', '.join(f'{100 * r:.0f}' for r in ratio)} % of the main patch's "
+        f"(its own power on {', '.join(f'{100 * r:.0f}' for r in ratio)} % of the main patch's "
         f"width) wears fastest. The linear critical speed "
         f"on the new profiles is {each(vc, ' m/s', lambda v: f'{v:.1f}')}.",
         f"- **Several contacts per wheel: what the wear does.** After {float(ref('hertz', slow).distance[-1]):g} km "
@@ -391,9 +392,8 @@ def _why_contacts(every, reference, finest):
            if larger else ", against the largest difference of that model's strategies from its own reference (")
         + ", ".join(f"{spread[k]:.2f}" for k in l2)
         + ("): the contact model changes the worn profile more than the choice of strategy does. " if larger else "). ")
-        + "(The dynamics read the resultant of the contacts, `docs/contact.md`: "
-        "one creep force per wheel with the summed coefficients; the different creepage directions and "
-        "spins of the points are not in it.)",
+        + "(The dynamics evaluate each contact on its own, `docs/dynamics.md`: its creepages in its own "
+        "contact plane, its spin, its Kalker coefficients and its saturation at its own mu N.)",
         f"- **Several contacts per wheel: convergence and cost.** Differences from each model's own reference "
         f"at {SPEEDS[fast]:g} m/s for step limits {', '.join(s.split(', ')[1] for s in steps)}: "
         f"{differences(fast, steps)}; for {', '.join(d.split(', ')[1] for d in directs)}: "

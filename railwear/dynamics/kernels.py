@@ -136,10 +136,13 @@ TW_Y_MIN = 10  # first grid point of the table [m], lateral displacement to the 
 TW_DY = 11
 TW_N_POINTS = 12
 TW_OUTSIDE_STIFFNESS = 13  # lateral spring beyond the table's range [N/m]
-TW_N_PARAMS = 14
+TW_N_CONTACTS = 14  # contacts per wheel evaluated one by one (0: the per-wheel resultant only)
+TW_N_PARAMS = 15
 TW_N_FIELDS = 8  # per side in surf: rolling radius, contact angle, normal force, f11, f22, f23, f33,
-# contact position on the wheel profile
+# contact position on the wheel profile; with TW_N_CONTACTS = P > 0 the same 8 fields follow for each
+# of the P contacts of the left wheel, then of the right (``_point_column``)
 TW_N_OUTPUTS = 20  # see table_wheelset_outputs
+TW_N_POINT_OUTPUTS = 9  # per contact, see _table_point_rows
 
 # ---- disk wheel parameters ------------------------------------------------------------------
 DW_SPEED = 0
@@ -360,6 +363,64 @@ def _table_wheel(side, lat, yaw, vlat, vyaw, p, o, surf, ratio):
 
 
 @njit(cache=True, inline="always")
+def _table_node(p, o, lateral):
+    """``(n, j, w)``: the table's points, the node below ``lateral`` and the weight of the node above
+    (clamped to the table's range, as ``_table_value``)."""
+    n = int(p[o + TW_N_POINTS])
+    pos = (lateral - p[o + TW_Y_MIN]) / p[o + TW_DY]
+    if pos <= 0.0:
+        pos = 0.0
+    elif pos >= n - 1:
+        pos = n - 1.0
+    j = min(int(pos), n - 2)
+    return n, j, pos - j
+
+
+@njit(cache=True, inline="always")
+def _point_column(surf, n, j, w, side, contacts, point, field):
+    """Field ``field`` of contact ``point`` of wheel ``side`` at the node ``(j, w)`` of
+    ``_table_node`` (``contacts`` contacts per wheel)."""
+    base = ((2 + side * contacts + point) * TW_N_FIELDS + field) * n
+    return (1.0 - w) * surf[base + j] + w * surf[base + j + 1]
+
+
+@njit(cache=True, inline="always")
+def _table_point(side, point, yaw, vlat, vyaw, p, o, surf, n, j, w, contacts, ratio, r_wheel, radii):
+    """Creep of contact ``point`` of wheel ``side`` on its own: ``(xi, eta, phi, Fx, Feta, Mz,
+    power, N, delta, position)``, ``N <= 0`` for a contact not loaded here (then the rest is not
+    computed). The axle spins at ``2 V / radii`` (``radii = r_L + r_R`` of the wheels'
+    resultants, ``ratio`` as in ``_table_wheel``), so the contact of rolling radius ``r`` has
+    ``xi = (V - 2 V r / radii) / V -+ e psi'/V``, written as the wheel's ``-+ratio`` less
+    ``2 (r - r_wheel) / radii`` (``r_wheel`` the wheel's resultant radius: exactly the wheel's
+    creepage for ``r = r_wheel``); ``eta = (y'/V - psi) / cos(delta)``,
+    ``phi = psi' cos(delta) / V -+ sin(delta) / r`` with the contact's own angle and radius, its
+    own Kalker coefficients and the cubic saturation at its own ``mu N``."""
+    normal = _point_column(surf, n, j, w, side, contacts, point, 2)
+    if not normal > 0.0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    v = p[o + TW_SPEED]
+    sign = 1.0 - 2.0 * side
+    radius = _point_column(surf, n, j, w, side, contacts, point, 0)
+    delta = _point_column(surf, n, j, w, side, contacts, point, 1)
+    scale = p[o + TW_CREEP_SCALE]
+    cosd = math.cos(delta)
+    sind = math.sin(delta)
+    xi = sign * (ratio - p[o + TW_HALF_GAUGE] * vyaw / v) - 2.0 * (radius - r_wheel) / radii
+    eta = (vlat / v - yaw) / cosd
+    phi = vyaw * cosd / v - sign * sind / radius
+    f23 = scale * _point_column(surf, n, j, w, side, contacts, point, 5)
+    fx = -scale * _point_column(surf, n, j, w, side, contacts, point, 3) * xi
+    fy = -scale * _point_column(surf, n, j, w, side, contacts, point, 4) * eta - f23 * phi
+    mz = f23 * eta - scale * _point_column(surf, n, j, w, side, contacts, point, 6) * phi
+    s = saturation_factor(math.sqrt(fx * fx + fy * fy), p[o + TW_FRICTION] * normal)
+    fx *= s
+    fy *= s
+    mz *= s
+    return (xi, eta, phi, fx, fy, mz, -v * (fx * xi + fy * eta + mz * phi), normal, delta,
+            _point_column(surf, n, j, w, side, contacts, point, 7))
+
+
+@njit(cache=True, inline="always")
 def _radius_ratio(surf, p, o, lat):
     """``(r_R - r_L) / (r_L + r_R)`` and ``r_L + r_R`` at ``lat``."""
     r_left = _table_value(surf, p, o, 0, 0, lat)
@@ -370,8 +431,13 @@ def _radius_ratio(surf, p, o, lat):
 @njit(cache=True)
 def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
     """Contact forces on a wheelset on real profiles (no suspension): ``(lateral force, yaw
-    moment, power left, power right, lateral component of the normal forces)``."""
-    ratio, _ = _radius_ratio(surf, p, o, lat)
+    moment, power left, power right, lateral component of the normal forces)``. With
+    ``TW_N_CONTACTS = 0`` each wheel's resultant contact (``_table_wheel``), else each of its
+    contacts on its own (``_table_point``), their forces summed in the order of the contacts (one
+    loaded contact per wheel gives the resultant's numbers to the bit)."""
+    ratio, radii = _radius_ratio(surf, p, o, lat)
+    contacts = int(p[o + TW_N_CONTACTS])
+    n, j, w = _table_node(p, o, lat)
     force = 0.0
     moment = 0.0
     normal_lateral = 0.0
@@ -379,12 +445,26 @@ def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
     power_right = 0.0
     for side in range(2):
         sign = 1.0 - 2.0 * side
-        _, _, _, fx, fy, mz, power, normal, delta = _table_wheel(side, lat, yaw, vlat, vyaw, p, o, surf, ratio)
-        cosd = math.cos(delta)
-        # the normal force leans towards the track centre by the contact angle
-        normal_lateral -= sign * normal * math.sin(delta)
-        force += fy * cosd
-        moment += mz * cosd - sign * p[o + TW_HALF_GAUGE] * fx
+        if contacts == 0:
+            _, _, _, fx, fy, mz, power, normal, delta = _table_wheel(side, lat, yaw, vlat, vyaw, p, o, surf, ratio)
+            cosd = math.cos(delta)
+            # the normal force leans towards the track centre by the contact angle
+            normal_lateral -= sign * normal * math.sin(delta)
+            force += fy * cosd
+            moment += mz * cosd - sign * p[o + TW_HALF_GAUGE] * fx
+        else:
+            power = 0.0
+            r_wheel = _table_value(surf, p, o, side, 0, lat)
+            for point in range(contacts):
+                _, _, _, fx, fy, mz, pw, normal, delta, _ = _table_point(side, point, yaw, vlat, vyaw, p, o, surf, n,
+                                                                         j, w, contacts, ratio, r_wheel, radii)
+                if not normal > 0.0:
+                    continue
+                cosd = math.cos(delta)
+                normal_lateral -= sign * normal * math.sin(delta)
+                force += fy * cosd
+                moment += mz * cosd - sign * p[o + TW_HALF_GAUGE] * fx
+                power += pw
         if side == 0:
             power_left = power
         else:
@@ -415,16 +495,56 @@ def table_wheelset_rhs(t, y, p, surf, dydt):
 def table_wheelset_outputs(t, y, p, surf, out):
     """Outputs: per wheel (left 0-7, right 8-15) ``xi, eta, phi, Fx, Feta, Mz, power, N``;
     16 rolling radius difference left - right; 17, 18 contact position on the left and right
-    wheel profile; 19 contact angle on the wheel ``x = 2 V t / (r_L + r_R) mod 2 pi``."""
+    wheel profile; 19 contact angle on the wheel ``x = 2 V t / (r_L + r_R) mod 2 pi``. With
+    several contacts per wheel (``TW_N_CONTACTS > 0``) ``Fx, Feta, Mz, power`` are the sums over
+    the wheel's contacts (``_table_point``); the creepages, ``N`` and the position stay the
+    resultant's (the table's per-wheel columns)."""
     ratio, radii = _radius_ratio(surf, p, 0, y[0])
+    contacts = int(p[TW_N_CONTACTS])
+    n, j, w = _table_node(p, 0, y[0])
     for side in range(2):
         vals = _table_wheel(side, y[0], y[1], y[2], y[3], p, 0, surf, ratio)
         for k in range(8):
             out[8 * side + k] = vals[k]
+        if contacts > 0:
+            r_wheel = _table_value(surf, p, 0, side, 0, y[0])
+            for k in range(3, 7):
+                out[8 * side + k] = 0.0
+            for point in range(contacts):
+                pv = _table_point(side, point, y[1], y[2], y[3], p, 0, surf, n, j, w, contacts, ratio, r_wheel, radii)
+                if pv[7] > 0.0:
+                    for k in range(3, 7):
+                        out[8 * side + k] += pv[k]
     out[16] = -ratio * radii
     out[17] = _table_value(surf, p, 0, 0, 7, y[0])
     out[18] = _table_value(surf, p, 0, 1, 7, y[0])
     out[19] = (2.0 * p[TW_SPEED] * t / radii) % TWO_PI
+
+
+@njit(cache=True)
+def table_point_rows(ys, p, o, surf, columns):
+    """Each contact's own quantities at every state of ``ys`` (time, state): the wheelset's
+    lateral displacement, yaw, lateral velocity and yaw rate are ``ys[:, columns[0..3]]``, its
+    parameters the ``TW_*`` at offset ``o``. Row ``i``, column ``((side * P + point) * 9 + k)``
+    (``P = TW_N_CONTACTS``): ``xi, eta, phi, Fx, Feta, Mz, power, N, position`` of ``_table_point``
+    (zeros where the contact carries no load). Their ``Fx ... power`` sum to
+    ``table_wheelset_outputs``' per-wheel values."""
+    contacts = int(p[o + TW_N_CONTACTS])
+    res = np.zeros((ys.shape[0], 2 * contacts * TW_N_POINT_OUTPUTS))
+    for i in range(ys.shape[0]):
+        lat = ys[i, columns[0]]
+        ratio, radii = _radius_ratio(surf, p, o, lat)
+        n, j, w = _table_node(p, o, lat)
+        for side in range(2):
+            r_wheel = _table_value(surf, p, o, side, 0, lat)
+            for point in range(contacts):
+                pv = _table_point(side, point, ys[i, columns[1]], ys[i, columns[2]], ys[i, columns[3]], p, o, surf, n,
+                                  j, w, contacts, ratio, r_wheel, radii)
+                if pv[7] > 0.0:
+                    base = (side * contacts + point) * TW_N_POINT_OUTPUTS
+                    for k in range(TW_N_POINT_OUTPUTS):
+                        res[i, base + k] = pv[k]
+    return res
 
 
 # ---- bogie ----------------------------------------------------------------------------------

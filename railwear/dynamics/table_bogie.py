@@ -11,7 +11,7 @@ from railwear.dynamics import kernels as k
 from railwear.dynamics._fields import number, pack
 from railwear.dynamics.bogie import BogieFrame, BogieModel
 from railwear.dynamics.linear import numerical_state_matrix
-from railwear.dynamics.table_wheelset import table_arrays, table_params
+from railwear.dynamics.table_wheelset import point_dataset, table_geometry, table_params
 from railwear.errors import ScenarioError
 
 __all__ = ["TableBogieModel"]
@@ -38,7 +38,7 @@ class TableBogieModel(BogieFrame):
         self._check_frame(positive=("creep_scale",), nonnegative=("outside_stiffness",), finite=("outside_stiffness",))
         if not number(self, "friction_coefficient") > 0.0:
             raise ScenarioError(f"friction_coefficient: must be positive (inf for none), got {self.friction_coefficient!r}")
-        object.__setattr__(self, "_geometry", table_arrays(self.table, bool(self.spin)))
+        object.__setattr__(self, "_geometry", table_geometry(self.table, bool(self.spin)))
 
     @classmethod
     def cooperrider(cls, speed, table, **overrides):
@@ -61,6 +61,22 @@ class TableBogieModel(BogieFrame):
 
     def surface(self) -> np.ndarray:
         return self._geometry[1]
+
+    @property
+    def contacts(self) -> int:
+        """Contacts per wheel evaluated one by one, as ``TableWheelsetModel.contacts``."""
+        return self._geometry[3]
+
+    def point_outputs(self, ds):
+        """Each contact's own quantities (``TableWheelsetModel.point_outputs``) over
+        ``(time, wheelset, wheel, point)`` at the states of ``simulate``'s result ``ds``."""
+        p, surf = self.params(), self.surface()
+        states = np.column_stack([ds[v].values for v in ("lateral_displacement", "yaw_angle", "lateral_velocity",
+                                                           "yaw_rate")])  # (time, 8): per variable front, rear
+        rows = np.stack([k.table_point_rows(states, p, k.BG_N_PARAMS, surf, np.array([i, 2 + i, 4 + i, 6 + i]))
+                         for i in range(2)], 1)
+        return point_dataset(rows.reshape(rows.shape[0], 2, 2, self.contacts, k.TW_N_POINT_OUTPUTS),
+                             ("time", "wheelset"), {"time": ds.time, "wheelset": ds.wheelset})
 
     def state_matrix(self, speed=None) -> np.ndarray:
         """Linearisation about centred running (saturation off), by central differences."""

@@ -13,7 +13,23 @@ from railwear.dynamics._fields import check, number, pack
 from railwear.dynamics.linear import numerical_state_matrix
 from railwear.errors import ScenarioError
 
-__all__ = ["TableWheelsetModel", "table_arrays", "table_params"]
+__all__ = ["TableWheelsetModel", "point_tracks", "table_arrays", "table_geometry", "table_params"]
+
+# the table's variables behind the kernel's fields of one contact (kernels.TW_N_FIELDS, in order)
+POINT_FIELDS = ("point_rolling_radius", "point_contact_angle", "point_normal_force", "point_f11", "point_f22",
+                "point_f23", "point_f33", "point_wheel_y")
+# kernels.table_point_rows per contact: result variable, units, long name
+POINT_OUTPUTS = (
+    ("point_longitudinal_creepage", "1", "longitudinal creepage of the contact"),
+    ("point_lateral_creepage", "1", "lateral creepage of the contact in its contact plane"),
+    ("point_spin_creepage", "m-1", "spin creepage of the contact"),
+    ("point_longitudinal_creep_force", "N", "longitudinal creep force of the contact"),
+    ("point_lateral_creep_force", "N", "lateral creep force of the contact in its contact plane"),
+    ("point_spin_creep_moment", "N m", "spin creep moment of the contact"),
+    ("point_frictional_power", "W", "frictional power in the contact"),
+    ("point_normal_force", "N", "normal force of the contact"),
+    ("point_contact_lateral_position", "m", "contact position on the wheel profile (profile coordinate)"),
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,10 +74,27 @@ class TableWheelsetModel:
         )
         if not number(self, "friction_coefficient") > 0.0:
             raise ScenarioError(f"friction_coefficient: must be positive (inf for none), got {self.friction_coefficient!r}")
-        object.__setattr__(self, "_geometry", table_arrays(self.table, bool(self.spin)))
+        object.__setattr__(self, "_geometry", table_geometry(self.table, bool(self.spin)))
 
     def params(self, speed=None) -> np.ndarray:
         return table_params(self, speed)
+
+    @property
+    def contacts(self) -> int:
+        """Contacts per wheel the dynamics evaluate one by one (0: the table's resultant, a table
+        without a ``point`` dimension)."""
+        return self._geometry[3]
+
+    def point_outputs(self, ds):
+        """Each contact's own creepages, forces, frictional power, normal force and position
+        (``POINT_OUTPUTS``, over ``(time, wheel, point)``, ``point`` the contact as tracked across
+        the table's shifts, ``point_tracks``) at the states of ``simulate``'s result ``ds``, as
+        the compiled right-hand side saw them; their forces and powers sum to the per-wheel
+        ones of ``ds``. Empty over ``point`` for a table of one contact per wheel."""
+        states = np.column_stack([ds[v].values for v in ("lateral_displacement", "yaw_angle", "lateral_velocity",
+                                                           "yaw_rate")])
+        rows = k.table_point_rows(states, self.params(), 0, self.surface(), np.arange(4))
+        return point_dataset(rows.reshape(-1, 2, self.contacts, k.TW_N_POINT_OUTPUTS), ("time",), {"time": ds.time})
 
     def surface(self) -> np.ndarray:
         return self._geometry[1]
@@ -80,9 +113,126 @@ class TableWheelsetModel:
 def table_params(model, speed, **derived):
     """The ``TW_*`` parameter array of a model on real profiles (its ``_geometry`` from
     ``table_arrays``); ``derived`` fills what the model's fields do not."""
-    y, _, e0 = model._geometry
+    y, _, e0, contacts = model._geometry
     return pack(model, "TW_", k.TW_N_PARAMS, speed, half_gauge=e0, y_min=y[0], dy=y[1] - y[0], n_points=y.size,
-                 **derived)
+                n_contacts=contacts, **derived)
+
+
+def point_dataset(rows, dims, coords):
+    """``table_point_rows``' values, shaped ``dims + (wheel, point, field)``, as an
+    ``xarray.Dataset`` of ``POINT_OUTPUTS`` over ``dims + ("wheel", "point")`` (``coords`` those of
+    ``dims``)."""
+    import xarray as xr
+
+    names = tuple(dims) + ("wheel", "point")
+    data = {name: (names, rows[..., i], {"units": unit, "long_name": long})
+            for i, (name, unit, long) in enumerate(POINT_OUTPUTS)}
+    coords = dict(coords, wheel=("wheel", ["left", "right"], {"long_name": "wheel of the wheelset"}),
+                  point=("point", np.arange(rows.shape[-2]),
+                         {"long_name": "contact of the wheel, tracked across the table's shifts (point_tracks)"}))
+    return xr.Dataset(data, coords=coords)
+
+
+def table_geometry(table, spin=True):
+    """What the compiled table models read: ``(y, surf, e0, P)``, ``table_arrays``' grid, kernel
+    array and half distance, the array followed, for a table with a ``point`` dimension
+    (``contact_model`` "multi-hertz", "semi-hertzian"), by the ``TW_N_FIELDS`` columns of each of
+    the ``P`` contacts per wheel that ``point_tracks`` follows across the shifts (left wheel's
+    first; a contact's geometry held at its nearest loaded shift where it carries no load, its
+    normal force and creep coefficients zero there). ``P = 0`` for a table without points: the
+    kernels then read the per-wheel resultant only."""
+    y, surf, e0 = table_arrays(table, spin)
+    if "point_normal_force" not in table.data_vars:
+        return y, surf, e0, 0
+    missing = [name for name in POINT_FIELDS + ("point_b",) if name not in table.data_vars]
+    if missing:
+        raise ScenarioError(f"table: the contact table lacks {', '.join(missing)}")
+    tracks = point_tracks(table)
+    contacts = tracks["left"].shape[1]
+    columns = []
+    for side in ("left", "right"):
+        for point in range(contacts):
+            for name in POINT_FIELDS:
+                value = tracked(table, side, tracks[side][:, point], name)
+                if name in ("point_f23", "point_f33") and not spin:
+                    value = 0.0 * value
+                columns.append(value[::-1])  # y to the left: reverse
+    block = np.concatenate(columns) if columns else np.zeros(0)
+    if not np.all(np.isfinite(block)):
+        raise ScenarioError("table: a loaded contact lacks a finite rolling radius, angle, position or creep "
+                            "coefficient")
+    return y, np.concatenate([surf, block]), e0, contacts
+
+
+def point_tracks(table):
+    """The contacts of each wheel followed across the table's shifts: ``{side: index}``, ``index``
+    of shape ``(y, P)`` (the table's ``y`` order) holding for contact ``p`` the table's ``point``
+    at each shift, -1 where it carries no load. The table numbers its contacts by gap at each
+    shift, so the number of one physical contact changes (tread and flange root swap near 5 mm);
+    here a loaded point continues the contact of the neighbouring shift nearest to it on the
+    wheel profile (``point_wheel_y``) if within the larger of their lateral semi-axes
+    (``point_b``), nearest pairs first, else it starts a new contact; a contact that loses its
+    load ends, except that where as many points are left as contacts ended, they continue those
+    in their order across the wheel however far they moved (the contacts jump and are
+    interpolated between the shifts as the per-wheel resultant is: a table of one contact per
+    wheel is one contact). Both wheels get the same ``P`` (unused columns -1)."""
+    out = {}
+    for side in ("left", "right"):
+        row = table.sel(side=side)
+        normal = np.asarray(row["point_normal_force"].values, dtype=float)
+        position = np.asarray(row["point_wheel_y"].values, dtype=float)
+        width = np.asarray(row["point_b"].values, dtype=float)
+        index = []
+        alive = []
+        for j in range(normal.shape[0]):
+            loaded = [i for i in range(normal.shape[1]) if normal[j, i] > 0.0]
+            pairs = []
+            for i in loaded:
+                for t in alive:
+                    q = index[t][j - 1]
+                    distance = abs(position[j, i] - position[j - 1, q])
+                    if distance <= max(width[j, i], width[j - 1, q]):
+                        pairs.append((distance, i, t))
+            now, taken = [], set()
+            for _, i, t in sorted(pairs):
+                if i not in taken and t not in now:
+                    index[t][j] = i
+                    taken.add(i)
+                    now.append(t)
+            points = sorted((position[j, i], i) for i in loaded if i not in taken)
+            ends = sorted((position[j - 1, index[t][j - 1]], t) for t in alive if t not in now)
+            if points and len(points) == len(ends):  # as many jumped as ended: paired in order across the wheel
+                for (_, i), (_, t) in zip(points, ends):
+                    index[t][j] = i
+                    taken.add(i)
+                    now.append(t)
+            for i in loaded:
+                if i not in taken:
+                    index.append(np.full(normal.shape[0], -1))
+                    index[-1][j] = i
+                    now.append(len(index) - 1)
+            alive = now
+        out[side] = np.array(index, dtype=int).reshape(-1, normal.shape[0]).T
+    contacts = max(v.shape[1] for v in out.values())
+    return {side: np.pad(v, ((0, 0), (0, contacts - v.shape[1])), constant_values=-1) for side, v in out.items()}
+
+
+def tracked(table, side, index, name):
+    """Variable ``name`` of the table's ``point`` dimension along one tracked contact (``index``
+    over ``y`` from ``point_tracks``): where the contact carries no load, 0 for its normal force and
+    creep coefficients, and its value at the nearest shift where it does for the rest (its
+    geometry, held); all 0 for a contact never loaded."""
+    values = np.asarray(table[name].sel(side=side).values, dtype=float)
+    loaded = index >= 0
+    out = np.zeros(index.size)
+    out[loaded] = values[np.flatnonzero(loaded), index[loaded]]
+    if name in ("point_normal_force", "point_f11", "point_f22", "point_f23", "point_f33") or not loaded.any():
+        return out
+    where = np.flatnonzero(loaded)
+    nearest = where[np.clip(np.searchsorted(where, np.arange(index.size)), 0, where.size - 1)]
+    below = where[np.clip(np.searchsorted(where, np.arange(index.size)) - 1, 0, where.size - 1)]
+    nearest = np.where(np.abs(below - np.arange(index.size)) < np.abs(nearest - np.arange(index.size)), below, nearest)
+    return out[nearest]
 
 
 def table_arrays(table, spin=True):

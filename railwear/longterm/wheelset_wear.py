@@ -15,12 +15,13 @@ circumference over the angle the wheel turned in that interval (at the axle's qu
 ``contact_model`` (``"hertz"``, ``"multi-hertz"``, ``"semi-hertzian"``, :func:`contact_table`)
 chooses the tables. On ``"hertz"`` (one rigid point per wheel) the wear goes under the table's
 ellipse at the dynamics' contact position as above. On the other two a wheel has several contacts
-sharing its load and the dynamics read their resultant; the wear rate at each output is shared
-between the table's two shifts around the wheelset's (linear-interpolation weights) and between
-each shift's contacts by ``point_creep_share``, and each contact's part is put down at its own
+sharing its load and the dynamics evaluate each on its own (its creepages, Kalker coefficients and
+saturation, ``TableWheelsetModel.point_outputs``); each contact's own frictional power at each
+output is shared between the table's two shifts around the wheelset's (linear-interpolation
+weights, over the shifts where that contact carries load) and put down at its own
 ``point_wheel_y`` under its own ellipse (``point_a``, ``point_b``; semi-hertzian: the patch's
-equivalent ellipse, half its width across), so the wear lands on the contacts, not on the
-resultant's position between them.
+equivalent ellipse, half its width across), so the wear lands on the contacts, each by its own
+power, not on the resultant's position between them.
 
 Feedback ("the contact geometry sees u"): after each long-term step the wheel profile is worn by
 the angle-averaged depth over ``s``, averaged over the two wheels (the contact table is built for
@@ -203,6 +204,8 @@ class WheelsetWear:
                         initial_lateral_velocity=0.0, initial_yaw_rate=0.0)
         ds = simulate(model, seconds, n_output=max(int(np.ceil(seconds * self.output_rate)), 2) + 1,
                       initial_state=state)
+        if model.contacts:  # several contacts per wheel: each one's own power for point_volumes
+            ds = ds.merge(model.point_outputs(ds))
         end = np.array([ds[v].values[-1] for v in ("lateral_displacement", "yaw_angle", "lateral_velocity",
                                                     "yaw_rate")])
         if cost is not None:
@@ -268,18 +271,34 @@ class WheelsetWear:
 
     def point_volumes(self, ds, table, wheel, factor=1.0):
         """The wear of ``wheel`` over the run ``ds`` on a table of several contacts per wheel, per
-        contact point: at every output the wheel's wear rate is shared between the table's two
-        shifts around the wheelset's (linear-interpolation weights) and at each shift between its
-        points by ``point_creep_share`` (energy law: ``β P share``; another law: its rate of the
-        point's ``share P``, ``point_normal_force`` and patch ``π point_a point_b``, the wheel's
+        contact point: at every output each contact's own frictional power
+        (``point_frictional_power`` of :meth:`run`, the contacts as
+        :func:`~railwear.dynamics.table_wheelset.point_tracks` follows them) is shared between the
+        table's two shifts around the wheelset's by their linear-interpolation weights, over the
+        shifts where that contact carries load (energy law: ``β P_i``; another law: its rate of
+        the point's ``P_i``, ``point_normal_force`` and patch ``π point_a point_b``, the wheel's
         sliding speed), and integrated over each output interval (trapezoidal). Returns, one per
-        loaded point and interval end, the interval's index, the volume (m³, times ``factor``), the
-        point's ``point_wheel_y`` and its ``point_a``, ``point_b`` (m), which :meth:`deposit`
-        puts down; their volumes sum to the law's over the run."""
+        loaded point and interval end, the interval's index, the volume (m³, times ``factor``),
+        the point's ``point_wheel_y`` and its ``point_a``, ``point_b`` (m), which :meth:`deposit`
+        puts down; their volumes sum to the law's of the summed point powers over the run."""
+        from railwear.dynamics.table_wheelset import point_tracks
+
+        if "point_frictional_power" not in ds:
+            raise ScenarioError("the run lacks each contact's frictional power (point_frictional_power): "
+                                "run the wheelset through WheelsetWear.run")
         node, weight = _brackets(table.y.values, -ds.lateral_displacement.values)  # (time, 2)
-        share, y, a, b, force = (table[f"point_{v}"].sel(side=wheel).values[node]  # (time, 2, point)
-                                 for v in ("creep_share", "wheel_y", "a", "b", "normal_force"))
-        power = ds.frictional_power.sel(wheel=wheel).values[:, None, None] * share
+        index = point_tracks(table)[wheel][node]  # (time, 2, contact): the table's point, -1 unloaded
+        loaded = index >= 0
+        if index.shape[-1] != ds.sizes["point"]:
+            raise ScenarioError("the run's contacts are not those of the contact table")
+        rows = np.broadcast_to(node[..., None], index.shape)
+        y, a, b, force = (np.where(loaded, table[f"point_{v}"].sel(side=wheel).values[rows, np.maximum(index, 0)],
+                                   np.nan if v == "wheel_y" else 0.0)
+                          for v in ("wheel_y", "a", "b", "normal_force"))
+        held = weight[:, :, None] * loaded
+        total = held.sum(1, keepdims=True)
+        share = np.divide(held, total, out=np.zeros_like(held), where=total > 0)
+        power = np.broadcast_to(ds.point_frictional_power.sel(wheel=wheel).values[:, None, :], share.shape)
         if self.beta is not None:
             rate = self.beta * power
         else:
@@ -289,7 +308,7 @@ class WheelsetWear:
             rate = self.law.volume_rate_of(ContactSample(
                 power, force, np.broadcast_to(v * slip[:, None, None], power.shape), np.full(power.shape, v),
                 np.where(force > 0, np.pi * a * b, 0.0)))
-        rate = rate * weight[:, :, None]
+        rate = rate * share
         half = factor * 0.5 * np.diff(ds.time.values)[:, None, None]
         volume = np.stack([half * rate[:-1], half * rate[1:]], 1)  # (interval, end, 2, point)
         same = (node[1:, 0] == node[:-1, 0])[:, None, None]  # both ends between the same shifts: one deposit
@@ -300,6 +319,7 @@ class WheelsetWear:
         if not np.all(np.isfinite(y[keep])):
             raise ScenarioError(f"the contact table has wear on a point without a position ({wheel} wheel)")
         return interval[keep], volume[keep], y[keep], a[keep], b[keep]
+
 
 @dataclass(frozen=True)
 class Wheelset(Body):

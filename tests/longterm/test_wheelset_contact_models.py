@@ -1,5 +1,6 @@
 """The wheelset wear on tables of several contacts per wheel (contact_model "multi-hertz",
-"semi-hertzian"): each point worn by its share, the volume the law's, "hertz" unchanged."""
+"semi-hertzian"): each point worn by its own frictional power, the volume the law's, "hertz"
+unchanged."""
 
 from dataclasses import replace
 
@@ -81,12 +82,13 @@ def test_hertz_deposits_as_before_bit_for_bit(tables):
 def test_removed_volume_is_the_law_of_the_summed_point_powers(tables, model):
     """Hunting at 60 m/s for 0.5 s on a table of several contacts per wheel: the volume each
     surface receives, summed over the points, equals beta times the trapezoidal integral of the
-    wheel's frictional power (the points' shares sum to 1), to 1e-12; a law without a declared
+    wheel's frictional power (the sum of its contacts' own powers), to 1e-12; a law without a declared
     beta (rate of each point's power) puts down the same surfaces to 1e-12."""
     table = tables[2][model]
     p = make(tables, model)
     ds, _ = p.run(table, 0.5, offset=2e-3)
     assert np.abs(ds.lateral_displacement.values).max() > 1e-3  # the contact moves over the table's shifts
+    np.testing.assert_allclose(ds.point_frictional_power.sum("point"), ds.frictional_power, rtol=1e-12)
     surfaces = (p.new_surface(), p.new_surface())
     added, law, _ = p.deposit(surfaces, ds, table, 0.4)
     power = ds.frictional_power.values
@@ -101,24 +103,32 @@ def test_removed_volume_is_the_law_of_the_summed_point_powers(tables, model):
         np.testing.assert_allclose(a.depth, b.depth, rtol=1e-12, atol=1e-12 * b.depth.max())
 
 
-def steady(table_shift, seconds=0.01, power=(800.0, 1200.0), n=21):
-    """A run standing at the table shift ``table_shift`` (m) with constant frictional powers (W,
-    left and right)."""
+def steady(table_shift, tracks, seconds=0.01, power=((560.0, 240.0), (900.0, 300.0)), n=21):
+    """A run standing at the table shift ``table_shift`` (m) with constant frictional powers of the
+    contacts (W; left and right, of the contacts holding the table's points 0 and 1 there, as
+    ``point_tracks`` follows them)."""
     t = np.linspace(0.0, seconds, n)
+    node = int(np.searchsorted(SHIFTS, table_shift, side="right") - 1)
+    points = np.zeros((n, 2, tracks["left"].shape[1]))
+    for w, wheel in enumerate(WHEELS):
+        for point, value in enumerate(power[w]):
+            points[:, w, list(tracks[wheel][node]).index(point)] = value
     return xr.Dataset({
         "lateral_displacement": ("time", np.full(n, -table_shift)),
-        "frictional_power": (("time", "wheel"), np.tile(power, (n, 1))),
+        "frictional_power": (("time", "wheel"), np.tile(np.sum(power, 1), (n, 1))),
+        "point_frictional_power": (("time", "wheel", "point"), points),
     }, coords={"time": t, "wheel": list(WHEELS)})
 
 
 @pytest.mark.parametrize("model", ["multi-hertz", "semi-hertzian"])
 @pytest.mark.parametrize("shift", [0.0, 0.00005, 0.00013])
-def test_two_points_each_receive_their_share(tables, model, shift):
-    """S1002/UIC60 near y = 0 has two contacts per wheel (70 / 30 %). With the two moved 50 mm
-    apart on the wheel (the table otherwise as built), the volume under each is its creep share
-    of beta P T, interpolated linearly between the table's shifts around the run's (on a node and
-    between nodes), to 1e-12; each footprint is the point's own semi-axes (the band of the lone
-    narrow point is within its 2 b)."""
+def test_two_points_each_receive_their_own_power(tables, model, shift):
+    """S1002/UIC60 near y = 0 has two contacts per wheel. With the two moved 45 mm apart on the
+    wheel (the table otherwise as built), the volume under each is beta times its own frictional
+    power times the time, on a node and between nodes, to 1e-12; each footprint is the point's own
+    semi-axes (the band of the lone narrow point is within its 2 b)."""
+    from railwear.dynamics.table_wheelset import point_tracks
+
     table = tables[2][model].copy(deep=True)
     loaded = table.point_normal_force.values > 0
     assert np.all(loaded.sum(-1)[97:104] == 2)  # two contacts from -0.3 to 0.3 mm
@@ -126,24 +136,21 @@ def test_two_points_each_receive_their_share(tables, model, shift):
     y[..., 0], y[..., 1] = np.where(loaded[..., 0], 0.015, np.nan), np.where(loaded[..., 1], -0.030, np.nan)
     table["point_wheel_y"] = (table.point_wheel_y.dims, y)
     p = make(tables, model, n_angle=64)
-    ds = steady(shift)
+    power = ((560.0, 240.0), (900.0, 300.0))
+    ds = steady(shift, point_tracks(table), power=power)
     surfaces = (p.new_surface(), p.new_surface())
     added, law, _ = p.deposit(surfaces, ds, table, 0.0)
     k = np.searchsorted(SHIFTS, shift, side="right") - 1
-    w = (shift - SHIFTS[k]) / (SHIFTS[k + 1] - SHIFTS[k])
     lateral = p.lateral
-    for surface, wheel, power in zip(surfaces, WHEELS, (800.0, 1200.0)):
-        share = table.point_creep_share.sel(side=wheel).values
-        expected = (1 - w) * share[k] + w * share[k + 1]
-        assert 0.25 < expected[1] < 0.35  # the second contact carries some 30 %
+    for surface, wheel, own in zip(surfaces, WHEELS, power):
         per_cell = surface.depth.sum(0) * surface.cell_area
-        total = p.beta * power * 0.01
         for point, side in ((0, lateral > -0.0075), (1, lateral < -0.0075)):
-            assert per_cell[side].sum() == pytest.approx(expected[point] * total, rel=1e-12)
+            assert per_cell[side].sum() == pytest.approx(p.beta * own[point] * 0.01, rel=1e-12)
         b = table.point_b.sel(side=wheel).values[k, 1]
         worn = lateral[(per_cell > 0) & (lateral < -0.0075)]
         assert worn.max() - worn.min() <= 2 * b + (lateral[1] - lateral[0])
     assert added == pytest.approx(law, rel=1e-12)
+    assert law == pytest.approx(p.beta * np.sum(power) * 0.01, rel=1e-12)
 
 
 @pytest.mark.parametrize("model", ["multi-hertz", "semi-hertzian"])
