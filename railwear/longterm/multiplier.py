@@ -30,6 +30,7 @@ from railwear.longterm.fourier import Fourier, contact_filter
 from railwear.longterm.phenomenological import finish, solver_checkpoints
 from railwear.pde import BuiltinRate, Cubic, Pointwise
 from railwear.pde.multiplier import Fixed, Remainder, solve_multiplier
+from railwear.units import MM
 
 LOAD_TABLE_RANGE = 1.5  # the table of P spans W (1 ± this) in load
 
@@ -78,7 +79,9 @@ class Multiplier(Strategy, name="multiplier"):
     :class:`~railwear.dynamics.DiskWheelModel` whose contact it is) and ``load_transfer`` (``N̂ /
     ū`` in N/m at ω in rad/s, the model's ``contact_force_transfer``). ``grid_points``: the surface
     grid of the direct run to compare with (``None``: no grid filter). ``epsilon``, ``nu`` and
-    ``options`` as for :class:`~railwear.longterm.phenomenological.Phenomenological`."""
+    ``options`` as for :class:`~railwear.longterm.phenomenological.Phenomenological`.
+    ``peak_to_peak_limit`` (m): stop where the wheel is that far out of round, peak to peak (the
+    crossing bracketed within one ETDRK4 step, :func:`~railwear.pde.multiplier.solve_multiplier`)."""
 
     fourier: Fourier
     life_distance: float
@@ -90,6 +93,7 @@ class Multiplier(Strategy, name="multiplier"):
     nu: float = 0.0
     options: dict = field(default_factory=dict)
     body: str = "disk_wheel"
+    peak_to_peak_limit: float | None = None
 
     def __post_init__(self):
         if not self.life_distance > 0:
@@ -100,6 +104,9 @@ class Multiplier(Strategy, name="multiplier"):
             raise ScenarioError("local must be None, 'load' or a built-in wear-rate form")
         if self.grid_points is not None and not (int(self.grid_points) == self.grid_points >= 2):
             raise ScenarioError("grid_points must be a whole number >= 2")
+        if self.peak_to_peak_limit is not None and not (np.isfinite(self.peak_to_peak_limit)
+                                                        and self.peak_to_peak_limit > 0):
+            raise ScenarioError(f"peak_to_peak_limit must be > 0 (m), got {self.peak_to_peak_limit!r}")
 
     @classmethod
     def from_fourier(cls, fourier, life_distance, local=None, **options):
@@ -141,16 +148,23 @@ class Multiplier(Strategy, name="multiplier"):
         return rate, a, filt * grid, Remainder(table, mean)
 
     def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
-        """Solve to normed time ``until`` or removed depth ``depth_limit`` (m) at the most worn
-        spot; checkpoints and resume as :class:`~railwear.longterm.phenomenological.Phenomenological`."""
+        """Solve to normed time ``until``, removed depth ``depth_limit`` (m) at the most worn spot or
+        the ``peak_to_peak_limit``, whichever comes first; checkpoints and resume as
+        :class:`~railwear.longterm.phenomenological.Phenomenological`."""
         u0 = checked_start(u0, until, depth_limit)
         if u0.size % 2 or u0.size < 8:
             raise ScenarioError("u0 must have an even number >= 8 of angles")
+        limit = self.peak_to_peak_limit
+        if limit is not None and np.ptp(u0) >= limit:
+            raise ScenarioError(f"solver.peak_to_peak_limit_mm: the wheel starts {np.ptp(u0) / MM:.4g} mm out of "
+                                f"round, above the limit {limit / MM:.4g} mm")
         rate, a, b, g = self.multipliers(u0.size)
         save, resume = solver_checkpoints(self.name, checkpoint, resume)
         ds = solve_multiplier(u0, until, rate, g, self.fourier.speed, self.epsilon, self.nu, local_input=a,
-                              local_output=b, depth_limit=depth_limit, progress=progress, checkpoint=save,
-                              resume=resume, **self.options)
+                              local_output=b, depth_limit=depth_limit, peak_to_peak_limit=limit, progress=progress,
+                              checkpoint=save, resume=resume, **self.options)
         ds = finish(ds, self.name, self.life_distance, "multiplier law: Fourier rates plus the local nonlinearity")
+        if limit is not None:
+            ds["peak_to_peak_limit"] = ((), limit, {"units": "m", "long_name": "out-of-roundness limit, peak to peak"})
         ds.attrs["body"] = self.body
         return ds

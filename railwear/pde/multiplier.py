@@ -24,16 +24,17 @@ the form :mod:`railwear.pde.etdrk4` compiles (``m_in = A``, ``m_out = B mask / (
 With ``g`` constant (the mean wear rate) every order evolves as ``e^{λ_n T}`` exactly.
 """
 
+import warnings
 from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
 
-from railwear.errors import ScenarioError
+from railwear.errors import ResolutionWarning, ScenarioError
 from railwear.pde.equation import EvolutionEquation
 from railwear.pde.evolution import to_dataset
 from railwear.pde.forms import BuiltinRate, Cubic, Pointwise
-from railwear.pde.solver import ETDRK4Solver
+from railwear.pde.solver import ETDRK4Solver, EvolutionRun, _outside_pde, _tail
 
 
 @dataclass(frozen=True, eq=False)
@@ -167,14 +168,129 @@ class MultiplierEquation(EvolutionEquation):
 
 
 def solve_multiplier(u0, t_end, rate, local=None, speed=0.0, epsilon=0.0, nu=0.0, *, local_input=None,
-                     local_output=None, dealias=True, progress=None, checkpoint=None, resume=None, **options):
+                     local_output=None, dealias=True, peak_to_peak_limit=None, progress=None, checkpoint=None,
+                     resume=None, **options):
     """Solve the multiplier law from ``u0`` (m) over normed time ``[0, t_end]``: ``rate`` ``λ_n``,
     ``local`` ``g``, ``local_input`` ``A_n`` and ``local_output`` ``B_n`` as in
     :class:`MultiplierEquation`; ``options`` those of
-    :class:`~railwear.pde.solver.ETDRK4Solver`. Returns the Dataset of
-    :func:`~railwear.pde.evolution.solve_evolution`."""
+    :class:`~railwear.pde.solver.ETDRK4Solver`. With ``peak_to_peak_limit`` (m; one row only) the
+    run stops where the wheel is first that far out of round (:func:`_stop_at_peak_to_peak`).
+    Returns the Dataset of :func:`~railwear.pde.evolution.solve_evolution`."""
     equation = MultiplierEquation.from_multiplier(u0, rate, local, speed, epsilon, nu, local_input=local_input,
                                                   local_output=local_output, dealias=dealias)
     solver = ETDRK4Solver(**options)
-    run = solver.solve(equation, t_end, progress=progress, checkpoint=checkpoint, resume=resume)
+    if peak_to_peak_limit is None:
+        run = solver.solve(equation, t_end, progress=progress, checkpoint=checkpoint, resume=resume)
+    else:
+        run = _stop_at_peak_to_peak(equation, solver, t_end, float(peak_to_peak_limit), progress, checkpoint, resume)
     return to_dataset(equation, solver, run)
+
+
+CROSSING_BRACKET = 1e-9  # the peak-to-peak crossing is bracketed to this fraction of one ETDRK4 step
+
+
+class _Crossed(Exception):
+    """Raised from the solver's checkpoint call: the interval just taken passed the limit."""
+
+    def __init__(self, state):
+        super().__init__("peak-to-peak limit passed")
+        self.state = state
+
+
+def _peak_to_peak(v, n):
+    return float(np.ptp(np.fft.irfft(v, n, axis=-1)))
+
+
+def _stop_at_peak_to_peak(equation, solver, t_end, limit, progress, checkpoint, resume):
+    """:meth:`ETDRK4Solver.solve` stopped where ``max u - min u`` first reaches ``limit`` (m).
+
+    After each output interval the solver's checkpoint call looks at the peak to peak. The output
+    interval in which it passed the limit is taken again from its start with a fixed step of half
+    the solver's last (so at least as fine as the step that passed it), saving every step; in the
+    first step that reaches the limit the crossing is bracketed by bisection on single ETDRK4 steps
+    of a fraction of it, to :data:`CROSSING_BRACKET` of the step. The stop is the end of the
+    bracket at or past the limit, as the Fourier technique's bisection takes it: where the
+    multiplier law is the Fourier solution (no local part, taken exactly) the two stops agree to
+    round-off; otherwise the stop is as accurate as the solution's own ``rtol``.
+    """
+    if len(equation.speeds) != 1:
+        raise ScenarioError("peak_to_peak_limit: the stop at a peak-to-peak limit takes one row")
+    n = equation.n
+    if np.ptp(equation.u0[0]) >= limit:
+        raise ScenarioError(f"peak_to_peak_limit: the wheel starts {np.ptp(equation.u0[0]):.4g} m out of round, "
+                            f"at or above the limit {limit:.4g} m")
+
+    def watch(state):
+        if _peak_to_peak(state.spectra[0], n) >= limit:
+            raise _Crossed(state)
+        if checkpoint is not None:
+            checkpoint(state)
+
+    try:
+        run = solver.solve(equation, t_end, progress=progress, checkpoint=watch, resume=resume)
+    except _Crossed as crossed:
+        state = crossed.state
+        times, saved, stabilisation, tail = state.times, state.saved, state.stabilisation, state.tail_peak
+        steps = int(state.steps[0])
+        finished = False
+    else:  # the last interval (the end, or a depth stop inside it) is not checkpointed: look at it here
+        if _peak_to_peak(run.saved[-1, 0], n) < limit:
+            return run
+        times, saved, stabilisation, tail = run.times, run.saved, run.stabilisation, run.spectral_tail
+        steps = max(int(round(t_end / (solver.n_save - 1) / run.time_step[0])), 1)
+        finished = True
+    interval = t_end / (solver.n_save - 1)
+    t_stop, v_stop = _locate(equation, solver, float(stabilisation[0]), times[-2], times[-1], saved[-2],
+                             saved[-1], 2 * steps * (times[-1] - times[-2]) / interval, limit)
+    if not finished:
+        _resolution_warning(equation, solver, tail)
+        if progress is not None:
+            progress(1.0)
+    return EvolutionRun(np.append(times[:-1], t_stop), np.concatenate([saved[:-1], v_stop[None, None]]),
+                        np.array([t_stop]), np.array([interval / steps]), np.asarray(stabilisation), np.asarray(tail))
+
+
+def _restart(equation, v):
+    """``equation`` from the spectra ``v`` (rows, n // 2 + 1) as its start."""
+    return replace(equation, u0=np.ascontiguousarray(np.fft.irfft(v, equation.n, axis=-1)))
+
+
+def _step_solver(solver, stabilisation, dt, n_save):
+    return ETDRK4Solver(dt=dt, n_save=n_save, stabilisation=stabilisation, rtol=None,
+                        tail_tolerance=solver.tail_tolerance, max_halvings=solver.max_halvings,
+                        resolution_tolerance=solver.resolution_tolerance)
+
+
+def _locate(equation, solver, stabilisation, t_a, t_b, v_a, v_b, steps, limit):
+    """``(T, v)`` where the peak to peak first reaches ``limit`` between ``t_a`` (under it, spectra
+    ``v_a``) and ``t_b`` (at or over it, ``v_b``), in ``steps`` (rounded up) fixed ETDRK4 steps."""
+    n, span = equation.n, t_b - t_a
+    m = max(int(np.ceil(steps - 1e-9)), 1)
+    fine = _step_solver(solver, stabilisation, span / m, m + 1).solve(_restart(equation, v_a), span)
+    ptp = np.ptp(np.fft.irfft(fine.saved[:, 0], n, axis=-1), axis=-1)
+    over = np.flatnonzero(ptp >= limit)
+    if over.size == 0:  # the finer steps keep it just under the limit up to t_b: the coarse crossing stands
+        return t_b, v_b[0]
+    j = int(over[0])
+    start, dt = _restart(equation, fine.saved[j - 1]), fine.times[j] - fine.times[j - 1]
+    lo, hi, v_hi = 0.0, 1.0, fine.saved[j, 0]
+    while hi - lo > CROSSING_BRACKET:
+        mid = 0.5 * (lo + hi)
+        v_mid = _step_solver(solver, stabilisation, mid * dt, 2).solve(start, mid * dt).saved[-1, 0]
+        if _peak_to_peak(v_mid, n) >= limit:
+            hi, v_hi = mid, v_mid
+        else:
+            lo = mid
+    return t_a + fine.times[j - 1] + hi * dt, v_hi
+
+
+def _resolution_warning(equation, solver, tail_peak):
+    """The solver's warning when the top of the kept spectrum grew (its end was not reached)."""
+    tail_start, amp_start = _tail(equation, np.fft.rfft(equation.u0, axis=-1))
+    start_ratio = tail_start / np.maximum(amp_start, 1e-300)
+    coarse = (tail_peak > solver.resolution_tolerance) & (tail_peak > 10 * start_ratio)
+    if np.any(coarse):
+        warnings.warn(
+            f"the top quarter of the kept orders reached {np.max(tail_peak):.2g} of the largest "
+            f"amplitude: {equation.n} points may not resolve this run; compare with {2 * equation.n}",
+            ResolutionWarning, stacklevel=_outside_pde())

@@ -189,14 +189,17 @@ def linear_model(scenario: Scenario, speed):
 
 @builds("multiplier")
 def multiplier(scenario: Scenario):
-    """The multiplier law at the one speed on the body's linear model (``[strategy] local``)."""
+    """The multiplier law at the one speed on the body's linear model (``[strategy] local``),
+    stopping at ``solver.peak_to_peak_limit_mm``."""
     from railwear.longterm.fourier import Fourier
     from railwear.longterm.multiplier import Multiplier
 
     st, solver, law = scenario.strategy, scenario.solver, wear_law(scenario)
     model, band = linear_model(scenario, one_speed(scenario))
     given = solver.model_fields_set
+    limit = solver.peak_to_peak_limit_mm
     options = {"grid_points": st.grid_points, "body": st.body,
+               "peak_to_peak_limit": None if limit is None else limit * MM,
                "epsilon": solver.epsilon if "epsilon" in given else 0.0, "nu": solver.nu if "nu" in given else 0.0,
                "options": {"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt}}
     if st.local == "none":

@@ -596,7 +596,8 @@ class Scenario(_Section):
         equation = kind in ("phenomenological", "multiplier")
         return (("solver", ("epsilon", "nu", "dealias", "dt"), equation, "the phenomenological and multiplier strategies"),
                 ("wear_rate", None, kind == "phenomenological", "the phenomenological strategy"),
-                ("solver", ("peak_to_peak_limit_mm",), kind == "fourier", "the fourier strategy"),
+                ("solver", ("peak_to_peak_limit_mm",), kind in ("fourier", "multiplier"),
+                 "the fourier and multiplier strategies"),
                 ("disk_wheel", None, body == "disk_wheel", "body 'disk_wheel'"),
                 ("wheelset_wear", None, body == "wheelset", "body 'wheelset'"),
                 ("vehicle", None, body == "vehicle_track", "body 'vehicle_track'"),

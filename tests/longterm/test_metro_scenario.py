@@ -82,7 +82,7 @@ def test_track_and_vehicle_sections_apply_to_their_body_only():
 
     with pytest.raises(ScenarioError, match=r"track\.\w+: applies to body 'vehicle_track' only"):
         _metro(disk)
-    with pytest.raises(ScenarioError, match="peak_to_peak_limit_mm: applies to the fourier strategy only"):
+    with pytest.raises(ScenarioError, match="peak_to_peak_limit_mm: applies to the fourier and multiplier strategies only"):
         _metro(phenomenological)
     with pytest.raises(ScenarioError, match="ballast_damping_kN_s_m: does not apply to base 'rigid'"):
         _metro(lambda d: d["track"].update(base="rigid"))
