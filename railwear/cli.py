@@ -506,23 +506,6 @@ def forecast(
     typer.echo(f"wrote {output / 'forecast.nc'}")
 
 
-def _hunting_file(ds):
-    """The hunting map by the speed convention of every file railwear writes: ``critical_speed``
-    in m s-1 and ``critical_speed_kmh`` in km h-1 beside it (``inf`` where stable at every speed)."""
-    import numpy as np
-
-    from railwear.api import SPEED_KMH_DECIMALS
-    from railwear.results import speed_in
-    from railwear.units import m_s_to_kmh
-
-    given = ds.critical_speed
-    long_name = given.attrs.get("long_name", "linear critical speed of hunting")
-    v = speed_in(given, "m s-1")
-    kmh = np.round(m_s_to_kmh(v), SPEED_KMH_DECIMALS)
-    return ds.assign(critical_speed=(given.dims, v, {"units": "m s-1", "long_name": long_name}),
-                     critical_speed_kmh=(given.dims, kmh, {"units": "km h-1", "long_name": long_name}))
-
-
 @app.command("hunting-map")
 def hunting_map(
     scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name ([wheelset], [wheel], [contact])")] = None,
@@ -543,7 +526,7 @@ def hunting_map(
     _figure_options(fmt, dpi)
     _output(output)
     try:
-        ds = _hunting_file(sweeps.hunting_map(api.load_scenario(scenario), lam, kpsi))
+        ds = sweeps.hunting_map(api.load_scenario(scenario), lam, kpsi)
     except ScenarioError as e:
         _fail(str(e), 2)
     results.write_netcdf(ds, output / "hunting.nc")

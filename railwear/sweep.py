@@ -19,7 +19,8 @@ import xarray as xr
 from railwear.errors import OptionError, RailwearError, ScenarioError
 from railwear.measured import BLANK, NUMBER
 from railwear.scenario import SPEED_FIELDS, Scenario, field_table, scenario_hash, set_field, to_toml, validated
-from railwear.units import GPA, KMH_PER_M_S, KN
+from railwear.api import SPEED_KMH_DECIMALS
+from railwear.units import GPA, KN, m_s_to_kmh
 
 POINT_SCALARS = {
     "dominant_order": ("1", "order of the largest harmonic at the end"),
@@ -428,8 +429,9 @@ def combine(coords, keys, done, errors, random_design):
 
 
 def hunting_map(scenario: Scenario, conicity, yaw_stiffness, lateral_stiffness=None):
-    """Linear critical speed (km/h, ``inf`` where stable at every speed) of the scenario's
-    wheelset over conicity × yaw stiffness (N m/rad) [× lateral stiffness (N/m)].
+    """Linear critical speed ``critical_speed`` (m s-1, ``inf`` where stable at every speed; and
+    ``critical_speed_kmh`` in km h-1 beside it) of the scenario's wheelset over conicity × yaw
+    stiffness (N m/rad) [× lateral stiffness (N/m)].
 
     The closed form of :func:`railwear.dynamics.linear_critical_speed` (Kalker creep without spin,
     conical wheels), with ``f11`` and ``f22`` per wheel from the Hertz patch at the wheel load.
@@ -445,11 +447,13 @@ def hunting_map(scenario: Scenario, conicity, yaw_stiffness, lateral_stiffness=N
     if np.any(conicity <= 0) or np.any(yaw < 0) or np.any(lateral < 0):
         raise OptionError("conicity must be > 0 and the stiffnesses >= 0")
     speed = np.array([[[linear_critical_speed(ws.mass_kg, ws.yaw_inertia_kg_m2, ky, kpsi, constants["f11"],
-                                              constants["f22"], ws.half_gauge_m, w.radius_m, lam) * KMH_PER_M_S
+                                              constants["f22"], ws.half_gauge_m, w.radius_m, lam)
                         for ky in lateral] for kpsi in yaw] for lam in conicity])
+    dims, long_name = ("conicity", "yaw_stiffness", "lateral_stiffness"), "linear critical speed of hunting (inf: stable at every speed)"
     ds = xr.Dataset(
-        {"critical_speed": (("conicity", "yaw_stiffness", "lateral_stiffness"), speed,
-                            {"units": "km h-1", "long_name": "linear critical speed of hunting (inf: stable at every speed)"})},
+        {"critical_speed": (dims, speed, {"units": "m s-1", "long_name": long_name}),
+         "critical_speed_kmh": (dims, np.round(m_s_to_kmh(speed), SPEED_KMH_DECIMALS),
+                                {"units": "km h-1", "long_name": long_name})},
         coords={"conicity": ("conicity", conicity, {"units": "1", "long_name": "equivalent conicity"}),
                 "yaw_stiffness": ("yaw_stiffness", yaw, {"units": "N m rad-1", "long_name": "yaw stiffness of the suspension"}),
                 "lateral_stiffness": ("lateral_stiffness", lateral, {"units": "N m-1", "long_name": "lateral stiffness of the suspension"})},

@@ -103,14 +103,16 @@ def test_hunting_files_give_the_critical_speed_in_m_s(tmp_path):
     from railwear.scenario import load_scenario
 
     output, ds = _hunting(tmp_path)
-    kmh = sweep.hunting_map(load_scenario("polygonalisation"), [0.05, 0.2], [2e6, 1e7, 1e8]).critical_speed
+    m = sweep.hunting_map(load_scenario("polygonalisation"), [0.05, 0.2], [2e6, 1e7, 1e8])
+    kmh = m.critical_speed_kmh
     speed, speed_kmh = ds["critical_speed"], ds["critical_speed_kmh"]
     assert speed.attrs["units"] == "m s-1" and speed_kmh.attrs["units"] == "km h-1"
     assert speed.dims == speed_kmh.dims == ("conicity", "yaw_stiffness")
     finite = np.isfinite(kmh.values)
     assert finite.any() and (~finite).any()  # stiff in yaw: stable at every speed, inf in both
     np.testing.assert_array_equal(np.isinf(speed.values), ~finite)
-    np.testing.assert_allclose(speed.values[finite], kmh.values[finite] / 3.6, rtol=1e-15)
+    np.testing.assert_array_equal(speed.values, m.critical_speed.values)  # the API returns what the file holds
+    np.testing.assert_allclose(speed.values[finite] * 3.6, kmh.values[finite], rtol=0, atol=1e-6)
     np.testing.assert_allclose(speed_kmh.values[finite], kmh.values[finite], rtol=0, atol=1e-6)
     assert f"lowest critical speed {np.min(kmh.values):.0f} km/h" in output
 

@@ -139,11 +139,13 @@ def test_hunting_map_is_the_closed_form_and_the_eigenvalue_crossing(tmp_path):
         for j, k in enumerate(kpsi):
             closed = linear_critical_speed(ws.mass_kg, ws.yaw_inertia_kg_m2, ws.lateral_stiffness_N_m, k,
                                            f11, f22, ws.half_gauge_m, sc.wheel.radius_m, c)
-            assert float(m.critical_speed[i, j]) == pytest.approx(closed * 3.6, rel=1e-14)
+            assert float(m.critical_speed[i, j]) == pytest.approx(closed, rel=1e-14)
     model = WheelsetModel(mass=ws.mass_kg, yaw_inertia=ws.yaw_inertia_kg_m2,
                           lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=1e6, f11=f11, f22=f22,
                           half_gauge=ws.half_gauge_m, rolling_radius=sc.wheel.radius_m, conicity=0.2, speed=30.0)
-    assert float(m.critical_speed[1, 0]) == pytest.approx(critical_speed(model) * 3.6, rel=1e-8)
+    assert float(m.critical_speed[1, 0]) == pytest.approx(critical_speed(model), rel=1e-8)
+    assert m.critical_speed.attrs["units"] == "m s-1" and float(m.critical_speed_kmh[1, 0]) == pytest.approx(
+        3.6 * float(m.critical_speed[1, 0]), abs=1e-6)
     # a stiffer conicity lowers the critical speed
     assert float(m.critical_speed[1, 0]) < float(m.critical_speed[0, 0])
     r = CliRunner().invoke(app, ["hunting-map", "--conicity", "0.05:0.3:0.05", "--yaw-stiffness",
