@@ -1,5 +1,6 @@
 """Wheel-rail contact mechanics: Hertz, Kalker's linear theory, FASTSIM, saturation (layer 1).
 
+``rolling_contact`` solves Kalker's exact steady-state rolling problem on the half-space grid.
 ``contact_constants`` gives the model constants of one contact (Hertz constant, patch, Kalker's
 ``f11 .. f33``); ``creep_tables`` tabulates FASTSIM's creep curve for the compiled dynamics.
 """
@@ -18,6 +19,7 @@ from railwear.contact.fastsim import (
 from railwear.contact.halfspace import HalfSpaceContact, HalfSpacePatch, halfspace_contact
 from railwear.contact.hertz import HertzContact, effective_modulus, hertz_contact, hertz_mnr
 from railwear.contact.kalker import LinearCreepForces, kalker_coefficients, linear_creep_forces
+from railwear.contact.rolling import RollingContact, rolling_contact
 from railwear.contact.saturation import (
     POLACH_DRY,
     POLACH_WET,
@@ -36,6 +38,7 @@ __all__ = [
     "LinearCreepForces",
     "POLACH_DRY",
     "POLACH_WET",
+    "RollingContact",
     "SaturatedForces",
     "contact_constants",
     "creep_coefficients",
@@ -51,6 +54,7 @@ __all__ = [
     "kalker_coefficients",
     "linear_creep_forces",
     "polach",
+    "rolling_contact",
     "shear_modulus",
     "shen_hedrick_elkins",
 ]

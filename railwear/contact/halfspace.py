@@ -37,7 +37,8 @@ from railwear.contact._checks import as_float_array, non_negative, positive
 from railwear.contact.hertz import effective_modulus
 from railwear.errors import ScenarioError
 
-__all__ = ["HalfSpaceContact", "HalfSpacePatch", "halfspace_contact", "influence_coefficients"]
+__all__ = ["HalfSpaceContact", "HalfSpacePatch", "halfspace_contact", "influence_coefficients",
+           "tangential_influence_coefficients"]
 
 
 def _love(u, v):
@@ -59,26 +60,76 @@ def influence_coefficients(X, S, dx, ds, estar):
     return total / (np.pi * estar)
 
 
-@lru_cache(maxsize=16)
-def _kernel(nx, ns, dx, ds, estar):
-    """FFT of the wrap-around kernel on the padded grid, and that grid's shape."""
+def _rectangle(primitive, X, S, hx, hs):
+    """``∬ g`` over the element ``[X - hx, X + hx] × [S - hs, S + hs]`` from a primitive with
+    ``∂²F/∂u∂v = g``."""
+    return primitive(X + hx, S + hs) - primitive(X - hx, S + hs) - primitive(X + hx, S - hs) + primitive(X - hx, S - hs)
+
+
+def _love_xx(u, v):
+    """Primitive of ``u² / r³``: ``v asinh(u/|v|)`` (0 on ``v = 0``)."""
+    av = np.abs(v)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(av > 0.0, v * np.arcsinh(u / np.where(av > 0.0, av, 1.0)), 0.0)
+
+
+def _love_xy(u, v):
+    """Primitive of ``u v / r³``: ``-r``."""
+    return -np.hypot(u, v)
+
+
+def tangential_influence_coefficients(X, S, dx, ds, shear_modulus, poisson):
+    """Combined tangential displacement differences (Axx, Axy, Ayy) [m/Pa] at offsets ``(X, S)``
+    [m] from the centre of a ``dx × ds`` [m] element under unit uniform shear traction, for
+    quasi-identical bodies of combined shear modulus ``G`` [Pa] and Poisson ratio ``ν``.
+
+    Cerruti's point-load solution for both bodies together, ``u_x = (1/(πG)) ((1-ν)/r + ν X²/r³)
+    Q_x + (ν/(πG)) X S/r³ Q_y`` and ``u_y`` likewise with X and S exchanged (Johnson 1985,
+    eq. 3.86a; Kalker 1990, ch. 1-3, as CONTACT's documentation gives them), integrated over the
+    element in closed form: ``∬ X²/r³`` has the primitive ``S asinh(X/|S|)``, ``∬ X S/r³`` the
+    primitive ``-r``, and their sum with the one of ``S²/r³`` is Love's ``∬ 1/r``. The
+    coupling to the normal problem (the ``(1-2ν)`` terms) vanishes for quasi-identical bodies.
+    """
+    hx, hs = 0.5 * dx, 0.5 * ds
+    ixx = _rectangle(_love_xx, X, S, hx, hs)
+    iyy = _rectangle(lambda u, v: _love_xx(v, u), X, S, hx, hs)
+    ixy = _rectangle(_love_xy, X, S, hx, hs)
+    scale = 1.0 / (np.pi * shear_modulus)
+    return ((ixx + (1.0 - poisson) * iyy) * scale, poisson * ixy * scale, ((1.0 - poisson) * ixx + iyy) * scale)
+
+
+def _wrapped_offsets(nx, ns, dx, ds):
+    """Offsets [m] of the padded grid in wrap-around order and that grid's shape."""
     Lx, Ls = sfft.next_fast_len(2 * nx - 1, real=True), sfft.next_fast_len(2 * ns - 1, real=True)
     ix = np.arange(Lx)
     js = np.arange(Ls)
     X = np.where(ix < nx, ix, ix - Lx) * dx
     S = np.where(js < ns, js, js - Ls) * ds
-    K = influence_coefficients(X[:, None], S[None, :], dx, ds, estar)
-    K[(ix >= nx) & (ix <= Lx - nx), :] = 0.0  # offsets no element pair has
-    K[:, (js >= ns) & (js <= Ls - ns)] = 0.0
-    return sfft.rfft2(K), (Lx, Ls)
+    unused = ((ix >= nx) & (ix <= Lx - nx))[:, None] | ((js >= ns) & (js <= Ls - ns))[None, :]
+    return X[:, None], S[None, :], unused, (Lx, Ls)
+
+
+@lru_cache(maxsize=16)
+def _kernel(nx, ns, dx, ds, modulus, component="zz", poisson=0.0):
+    """FFT of the wrap-around kernel on the padded grid, and that grid's shape. ``component``
+    "zz": the normal kernel (``modulus`` E*); "xx", "xy", "yy": the tangential ones (``modulus``
+    G, with ``poisson``)."""
+    X, S, unused, padded = _wrapped_offsets(nx, ns, dx, ds)
+    if component == "zz":
+        K = influence_coefficients(X, S, dx, ds, modulus)
+    else:
+        K = tangential_influence_coefficients(X, S, dx, ds, modulus, poisson)[("xx", "xy", "yy").index(component)]
+    K = np.where(unused, 0.0, K)  # offsets no element pair has
+    return sfft.rfft2(K), padded
 
 
 class _Convolution:
-    """``u = A p`` on an ``nx × ns`` grid by zero-padded FFT (DC-FFT)."""
+    """``u = A p`` on an ``nx × ns`` grid by zero-padded FFT (DC-FFT); ``component`` and
+    ``poisson`` choose the kernel as in :func:`_kernel` (default the normal one, ``estar`` E*)."""
 
-    def __init__(self, nx, ns, dx, ds, estar):
+    def __init__(self, nx, ns, dx, ds, estar, component="zz", poisson=0.0):
         self.shape = (nx, ns)
-        self.khat, self.padded = _kernel(nx, ns, float(dx), float(ds), float(estar))
+        self.khat, self.padded = _kernel(nx, ns, float(dx), float(ds), float(estar), component, float(poisson))
 
     def __call__(self, p):
         out = sfft.irfft2(sfft.rfft2(p, s=self.padded) * self.khat, s=self.padded)
