@@ -170,7 +170,11 @@ WHY = """Why:
   metro case against `FourierStrategy` to 1e-9 of the deviation, measured 3e-13; its fitted growth
   per order equals Re λ_n to 1e-4 at 1 nm with the load nonlinearity on). It grows the orders the
   dynamics grow (order 8 at 70 km/h, order 4 at 120 km/h) and carries their phase (Im λ_n), where
-  the local law could only smooth every order at its n² rate.
+  the local law could only smooth every order at its n² rate. With `[solver] peak_to_peak_limit_mm`
+  it stops where the wheel is that far out of round, as the Fourier technique does: the output
+  interval that passes the limit is taken again step by step and the crossing bisected within its
+  step to 1e-9 of the step (the metro case without local part stops at the Fourier run's distance to
+  3e-12, with the load nonlinearity 0.22 % later; tests/longterm/test_multiplier_stop.py).
 - **The 32-point comparison is the grid's.** Without the grid filter the law's error is the Fourier
   technique's (first table): the direct run on 32 points filters every harmonic by its grid, about
   sinc³(n/32), 27 % off the rate of order 8, over the whole run. With that filter on the law (the grid
