@@ -1,0 +1,322 @@
+"""Kalker's exact rolling contact on S1002 / UIC60 (1:40) against railwear's FASTSIM paths.
+
+Run: python docs/contact_rolling.py [--quick] [--output PATH]
+(default figure docs/figures/contact-rolling-y0.png; ``--quick``: y = 0 only, one creepage,
+0.4 mm elements, no convergence study).
+
+The normal pressure is the elastic half-space reference of ``docs/contact_elastic.py`` (its
+geometry, tangent planes and load sharing, imported from it). On each plane
+:func:`railwear.contact.rolling_contact` solves the tangential problem with the rigid slip of the
+wheel: the longitudinal creepage of every strip from its own rolling radius,
+``ξ(s) = 1 - (1 - ξ0) r(s) / r0`` (ξ0 at the deepest minimum of the main region, radius r0), the
+lateral creepage η and the spin of the plane's contact angle ``φ = -sin γ / r``. railwear's paths
+get the same kinematics at their own points (``ξ_i`` from the point's radius, ``φ_i = -sin γ_i /
+r_i``):
+
+- (a) hertz: the single Hertz point of ``contact_table`` with FASTSIM on its ellipse;
+- (b) multi-hertz and semi-hertzian: every contact of ``contact_table(..., contact_model=...)``
+  with FASTSIM on its (equivalent) ellipse;
+- (c) FASTSIM strip by strip on the elastic patch itself (Kik and Piotrowski's way: the traction
+  bound is μ times the elastic pressure of the strip, the flexibilities those of the patch's
+  equivalent ellipse, same area and width), with the exact solution's rigid slip;
+- (d) the same on the semi-hertzian patches (each rebuilt from the table's virtual penetration
+  and patch curvature, pressure semi-elliptic along every strip and carrying the point's load).
+
+Compared per tangent plane: the resultant tangential force |F|, Fx, Fy, the spin moment Mz
+about each solution's own normal-load centroid (so a lever arm between two models' centres does
+not enter), and the frictional power per unit rolling speed (W per m/s): FASTSIM's local sum,
+and for the exact solution the rigid slip work ``-Σ p · w dA``, which the local sum
+``Σ |p| |s| dA`` equals in the limit (the nearer of the two on these grids).
+"""
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from contact_elastic import SETUP, Wheel, semi_outline, tables_for  # noqa: E402  (the geometry)
+
+from railwear.contact import fastsim, flexibilities, rolling_contact  # noqa: E402
+
+MU = 0.3
+E, NU = SETUP["youngs_modulus"], SETUP["poisson"]
+G = E / (2.0 * (1.0 + NU))
+CASES = {"xi = eta = 1e-3 + spin": (1e-3, 1e-3, False), "xi = eta = 4e-3 + spin": (4e-3, 4e-3, False)}
+# Kalker's planar kinematics (xi uniform, the radius change across the plane only through the
+# spin of its angle), at y = 0 only: how much of the difference is the wide patch's radii
+PLANAR = {"xi = eta = 1e-3, planar": (1e-3, 1e-3, True)}
+SHIFTS, QUICK_SHIFTS = (-3.0, 0.0, 3.0, 5.0), (0.0,)  # mm
+STEP, QUICK_STEP = 0.2e-3, 0.4e-3
+CONVERGENCE = (0.4e-3, 0.2e-3, 0.1e-3)
+PATHS = ("exact", "hertz", "multi-hertz", "semi-hertzian", "strip elastic", "strip semi-hertzian")
+
+
+def strip_fastsim(x, s, pressure, xi, eta, phi, a, b):
+    """FASTSIM along every strip (column) of the grid from the leading edge (largest x): traction
+    bound μ pressure, flexibilities of the ellipse a × b, rigid slip (ξ(s) - φ s, η + φ x).
+    Returns (px, py, power density per unit speed [W/m² per m/s]) on the grid; the traction is
+    released to zero where the strip leaves the contact (as FASTSIM's trailing edge)."""
+    L1, L2, L3 = (float(v) for v in flexibilities(a, b, G, NU))
+    dx = x[1] - x[0]
+    c, xa = np.sqrt(a * b), float(np.mean(np.abs(xi)))
+    Lx = L1 if xa + c * abs(phi) == 0 else (xa * L1 + c * abs(phi) * L3) / (xa + c * abs(phi))
+    Ly = L2 if abs(eta) + c * abs(phi) == 0 else (abs(eta) * L2 + c * abs(phi) * L3) / (abs(eta) + c * abs(phi))
+    px, py, pd = np.zeros(pressure.shape), np.zeros(pressure.shape), np.zeros(pressure.shape)
+    qx, qy = np.zeros(s.size), np.zeros(s.size)
+    rx = xi / L1 - phi * s / L3
+    for i in range(x.size - 1, -1, -1):
+        hx, hy = qx - rx * dx, qy - (eta / L2 + phi * x[i] / L3) * dx
+        bound = MU * pressure[i]
+        h = np.hypot(hx, hy)
+        scale = np.where(h > bound, bound / np.where(h > 0, h, 1.0), 1.0)
+        nx_, ny_ = hx * scale, hy * scale
+        pd[i] = -(0.5 * (qx + nx_) * Lx * (nx_ - hx) + 0.5 * (qy + ny_) * Ly * (ny_ - hy)) / dx
+        qx, qy = nx_, ny_
+        px[i], py[i] = qx, qy
+    return px, py, pd
+
+
+def _totals(x, s, pressure, px, py, power):
+    """Fx, Fy, |F|, Mz about the normal-load centroid, normal force, power of a grid solution."""
+    cell = (x[1] - x[0]) * (s[1] - s[0])
+    N = pressure.sum() * cell
+    xc, sc = (pressure.sum(1) @ x) * cell / N, (pressure.sum(0) @ s) * cell / N
+    Fx, Fy = px.sum() * cell, py.sum() * cell
+    Mz = np.sum((x[:, None] - xc) * py - (s[None, :] - sc) * px) * cell
+    return dict(Fx=Fx, Fy=Fy, F=np.hypot(Fx, Fy), Mz=Mz, N=N, P=power)
+
+
+def _points(tables, model, y):
+    """Loaded contacts of a model at shift y: dicts of wheel y, N, a, b, angle, radius."""
+    d = tables[model].sel(y=y, method="nearest").sel(side="right")
+    if model == "hertz":
+        return [dict(y=float(d.wheel_contact_y), N=float(d.normal_force), a=float(d.a), b=float(d.b),
+                     angle=float(d.contact_angle), radius=float(d.rolling_radius), k=0)]
+    return [dict(y=float(d.point_wheel_y[k]), N=float(d.point_normal_force[k]), a=float(d.point_a[k]),
+                 b=float(d.point_b[k]), angle=float(d.point_contact_angle[k]),
+                 radius=float(d.point_rolling_radius[k]), k=int(k))
+            for k in np.flatnonzero(d.point_normal_force.values > 0)]
+
+
+def _region_of(regions, yw):
+    """Index of the region whose window on the wheel holds yw (else the nearest)."""
+    spans = [(r.wheel_y(r.s[0]), r.wheel_y(r.s[-1])) for r in regions]
+    inside = [k for k, (lo, hi) in enumerate(spans) if min(lo, hi) <= yw <= max(lo, hi)]
+    return inside[0] if inside else int(np.argmin([abs(r.y_ref - yw) for r in regions]))
+
+
+def _ellipse_paths(points, region, xi0, r0, eta, planar_phi=None):
+    """FASTSIM on each point's ellipse with its own creepages, summed in the region's plane
+    (``planar_phi``: Kalker's planar kinematics, ξ0 - φ s at the point and the plane's φ)."""
+    if not points:
+        return None
+    out = []
+    for p in points:
+        s = (p["y"] - region.y_ref) / np.cos(region.angle)
+        if planar_phi is None:
+            xi, phi = 1.0 - (1.0 - xi0) * p["radius"] / r0, -np.sin(p["angle"]) / p["radius"]
+        else:
+            xi, phi = xi0 - planar_phi * s, planar_phi
+        f = fastsim(p["a"], p["b"], p["N"], xi, eta, phi, MU, G, NU)
+        out.append((p, f, s))
+    N = sum(p["N"] for p, _, _ in out)
+    sc = sum(p["N"] * s for p, _, s in out) / N
+    Fx, Fy = sum(f.Fx for _, f, _ in out), sum(f.Fy for _, f, _ in out)
+    Mz = sum(f.Mz - (s - sc) * f.Fx for _, f, s in out)
+    return dict(Fx=Fx, Fy=Fy, F=np.hypot(Fx, Fy), Mz=Mz, N=N, P=sum(f.power_local for _, f, _ in out),
+                slip=sum(f.slip_fraction * np.pi * p["a"] * p["b"] for p, f, _ in out)
+                / sum(np.pi * p["a"] * p["b"] for p, _, _ in out))
+
+
+def _semi_pressure(region, wheel, tables, y, members):
+    """The semi-hertzian patches of the region on its grid: list of (pressure, point)."""
+    outlines = semi_outline(dict(wheel=wheel, y=y), tables)
+    out = []
+    yw = region.wheel_y(region.s)
+    x = region.x
+    cell = (x[1] - x[0]) * (region.s[1] - region.s[0])
+    for o, p in zip(outlines, _points(tables, "semi-hertzian", y)):
+        if p["k"] not in members:
+            continue
+        L = np.interp(yw, o["y"], o["L"], left=0.0, right=0.0)
+        shape = np.sqrt(np.clip(L[None, :] ** 2 - x[:, None] ** 2, 0.0, None))
+        if shape.sum() > 0:
+            out.append((shape * p["N"] / (shape.sum() * cell), p))
+    return out
+
+
+def solve_shift(y, tables, step, cases):
+    """Exact and model paths at shift y [m] for the creepage cases: list of row dicts."""
+    wheel = Wheel(SETUP, y, tables["hertz"])
+    regions, _ = wheel.solve(step)
+    r_nom = SETUP["rolling_radius"]
+    r0 = r_nom + float(wheel.wheel(regions[0].y_ref))
+    rows = []
+    for k, region in enumerate(regions):
+        res = region.result
+        if res.normal_force <= 0.0:
+            continue
+        yw = region.wheel_y(res.s)
+        radius = r_nom + wheel.wheel(yw)
+        phi = -np.sin(region.angle) / (r_nom + float(wheel.wheel(region.y_ref)))
+        on = res.contact
+        jj = np.flatnonzero(on.any(0))
+        b = 0.5 * (res.s[jj[-1]] - res.s[jj[0]] + (res.s[1] - res.s[0]))
+        a = res.area / (np.pi * b)
+        members = {m: [p for p in _points(tables, m, y) if _region_of(regions, p["y"]) == k] for m in tables}
+        semi = _semi_pressure(region, wheel, tables, y, [p["k"] for p in members["semi-hertzian"]])
+        for label, (xi0, eta, planar) in cases.items():
+            xi = xi0 - phi * res.s if planar else 1.0 - (1.0 - xi0) * radius / r0
+            start = time.perf_counter()
+            ex = rolling_contact(res.x, res.s, res.pressure, xi, eta, phi, MU, G, NU)
+            seconds = time.perf_counter() - start
+            # the exact power: the rigid slip work (the local sum converges to it from below, the
+            # work from above, both at first order; at 0.2 mm the work is the nearer, +1.3 %
+            # against -4.4 % at y = 0, see the convergence table)
+            paths = {"exact": dict(_totals(res.x, res.s, res.pressure, ex.px, ex.py, ex.power_global),
+                                   slip=ex.slip_fraction, P_local=ex.power_local)}
+            for m in ("hertz", "multi-hertz", "semi-hertzian"):
+                paths[m] = _ellipse_paths(members[m], region, xi0, r0, eta, phi if planar else None)
+            px, py, pd = strip_fastsim(res.x, res.s, res.pressure, xi, eta, phi, a, b)
+            cell = (res.x[1] - res.x[0]) * (res.s[1] - res.s[0])
+            paths["strip elastic"] = dict(_totals(res.x, res.s, res.pressure, px, py, pd.sum() * cell),
+                                          slip=float(((np.hypot(px, py) >= MU * res.pressure * (1 - 1e-12)) & on).sum()
+                                                     / on.sum()))
+            if semi:
+                total_p = sum(p for p, _ in semi)
+                sx, sy, power = np.zeros(on.shape), np.zeros(on.shape), 0.0
+                for p, pt in semi:
+                    qx, qy, qd = strip_fastsim(res.x, res.s, p, xi, eta, phi, pt["a"], pt["b"])
+                    sx, sy, power = sx + qx, sy + qy, power + qd.sum() * cell
+                paths["strip semi-hertzian"] = dict(_totals(res.x, res.s, total_p, sx, sy, power),
+                                                    slip=float((np.hypot(sx, sy) >= MU * total_p * (1 - 1e-12))[total_p > 0].mean()))
+            else:
+                paths["strip semi-hertzian"] = None
+            rows.append(dict(y=y, region=k, angle=region.angle, case=label, paths=paths, exact=ex, seconds=seconds,
+                             elements=int(on.sum()), region_obj=region, wheel_y=yw, xi=xi, phi=phi,
+                             share=res.normal_force * np.cos(region.angle) / wheel.load))
+    return rows
+
+
+def table(rows):
+    lines = ["| y [mm] | plane (angle, load share) | creepage | path | \\|F\\| [kN] | Fx / Fy [kN] | Mz [N m] | "
+             "power [W per m/s] | slip area |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        ref = r["paths"]["exact"]
+        for name in PATHS:
+            p = r["paths"][name]
+            head = (f"| {r['y'] * 1e3:+.1f} | {np.degrees(r['angle']):.1f} deg, {100 * r['share']:.0f} % | {r['case']} | "
+                    f"{name} |")
+            if p is None:
+                lines.append(head + " none | | | | |")
+                continue
+            d = (lambda k: "" if name == "exact" else f" ({100 * (p[k] / ref[k] - 1):+.0f} %)")  # noqa: E731
+            slip = f"{100 * p['slip']:.0f} %" if "slip" in p else ""
+            lines.append(head + f" {p['F'] / 1e3:.2f}{d('F')} | {p['Fx'] / 1e3:.2f} / {p['Fy'] / 1e3:.2f} | "
+                         f"{p['Mz']:.2f}{d('Mz')} | {p['P']:.2f}{d('P')} | {slip} |")
+    return "\n".join(lines)
+
+
+def convergence(tables, case):
+    """The exact solution at y = 0 on the grids of CONVERGENCE: lines of a table."""
+    lines = ["| element [mm] | elements | \\|F\\| [kN] | Mz [N m] | power local / global [W per m/s] | slip area | "
+             "Newton / GMRES steps | time [s] |", "|---|---|---|---|---|---|---|---|"]
+    out = []
+    for step in CONVERGENCE:
+        (r,) = solve_shift(0.0, tables, step, {case: CASES[case]})
+        ex, p = r["exact"], r["paths"]["exact"]
+        out.append((step, p, ex))
+        lines.append(f"| {step * 1e3:.1f} | {r['elements']} | {p['F'] / 1e3:.3f} | {p['Mz']:.3f} | "
+                     f"{ex.power_local:.2f} / {ex.power_global:.2f} | {100 * ex.slip_fraction:.1f} % | "
+                     f"{ex.iterations} / {ex.krylov_iterations} | {r['seconds']:.1f} |")
+    return "\n".join(lines), out
+
+
+def figure(row, output):
+    """Traction and slip at y = 0: |p| with arrows and the adhesion area; frictional power density."""
+    import matplotlib
+
+    matplotlib.use("agg")
+    import matplotlib.pyplot as plt
+
+    ex, region = row["exact"], row["region_obj"]
+    yw = row["wheel_y"] * 1e3
+    xx = ex.x * 1e3
+    on = ex.pressure > 0
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.8, 8.0), sharex=True, constrained_layout=True)
+    t = np.ma.masked_where(~on, ex.traction / 1e6)
+    mesh = ax.pcolormesh(yw, xx, t, cmap="viridis", shading="nearest")
+    fig.colorbar(mesh, ax=ax, label="tangential traction |p| [MPa]")
+    ax.contour(yw, xx, on.astype(float), levels=[0.5], colors="k", linewidths=1.0)
+    ax.contourf(yw, xx, ex.adhesion.astype(float), levels=[0.5, 1.5], colors="none", hatches=["///"])
+    ax.contour(yw, xx, ex.adhesion.astype(float), levels=[0.5], colors="w", linewidths=1.2)
+    k = max(1, int(round(0.8e-3 / (ex.x[1] - ex.x[0]))))
+    sub = (slice(k // 2, None, k), slice(k // 2, None, 2 * k))
+    Y, X = np.meshgrid(yw, xx)
+    m = on[sub]
+    # arrows in the plot's axes: lateral traction (py) horizontal, longitudinal (px) vertical
+    q = ax.quiver(Y[sub][m], X[sub][m], ex.py[sub][m] / 1e6, ex.px[sub][m] / 1e6, color="w", scale=2500,
+                  width=0.003, edgecolor="k", linewidth=0.3)
+    ax.quiverkey(q, 0.80, 0.055, 200, "traction 200 MPa (py across, px along)", labelpos="W", coordinates="axes",
+                 color="k", fontproperties=dict(size=7.5))
+    from matplotlib.patches import Patch
+
+    ax.plot([], [], "k-", lw=1.0, label="contact edge (elastic pressure > 0)")
+    ax.add_artist(ax.legend(handles=[ax.lines[-1], Patch(facecolor="none", edgecolor="k", hatch="///",
+                                                          label="adhesion area (hatched, white edge)")],
+                            loc="upper right", fontsize=7.5, framealpha=0.9))
+    ax.annotate("", xy=(0.04, 0.70), xytext=(0.04, 0.92), xycoords="axes fraction",
+                arrowprops=dict(arrowstyle="->", color="k"))
+    ax.text(0.055, 0.95, "material flow: enters at +x", transform=ax.transAxes, fontsize=8, va="center")
+    ax.set_ylabel("x along rolling [mm]")
+    ax.set_title(f"S1002 / UIC60 1:40, y = 0, 66.7 kN, mu = {MU}: exact rolling contact, "
+                 f"{(ex.x[1] - ex.x[0]) * 1e3:.1f} mm elements\n"
+                 f"{row['case']} (phi = {row['phi']:.3f} 1/m), |F| = {np.hypot(ex.Fx, ex.Fy) / 1e3:.1f} kN, "
+                 f"slip area {100 * ex.slip_fraction:.0f} %", fontsize=10)
+    pd = np.ma.masked_where(~on, ex.power_density / 1e3)
+    mesh = bx.pcolormesh(yw, xx, pd, cmap="magma", shading="nearest")
+    fig.colorbar(mesh, ax=bx, label="frictional power density [kW/m² per m/s]")
+    bx.contour(yw, xx, on.astype(float), levels=[0.5], colors="k", linewidths=1.0)
+    bx.contour(yw, xx, ex.adhesion.astype(float), levels=[0.5], colors="c", linewidths=1.2)
+    bx.plot([], [], "c-", label="adhesion / slip boundary")
+    bx.legend(loc="lower right", fontsize=7.5, framealpha=0.9)
+    bx.set_ylabel("x along rolling [mm]")
+    bx.set_xlabel("lateral position on the wheel profile [mm] (towards the field side)")
+    cols = np.flatnonzero(on.any(0))
+    for a in (ax, bx):
+        a.set_xlim(yw[cols[0]] - 2.0, yw[cols[-1]] + 2.0)
+        a.set_ylim(-6.5, 7.0)
+    fig.savefig(output, dpi=120)
+    plt.close(fig)
+
+
+def main(quick=False, output=None, out=sys.stdout):
+    step = QUICK_STEP if quick else STEP
+    shifts = np.round(np.array(QUICK_SHIFTS if quick else SHIFTS) * 1e-3, 12)
+    cases = dict(list(CASES.items())[:1]) if quick else CASES
+    tables = tables_for(SETUP, shifts)
+    rows = []
+    for y in shifts:
+        rows += solve_shift(float(y), tables, step, {**cases, **(PLANAR if y == 0.0 and not quick else {})})
+    print(f"mu = {MU}, G = {G / 1e9:.1f} GPa, nu = {NU}, elements {step * 1e3:.1f} mm; power per unit rolling speed",
+          file=out)
+    print(table(rows), file=out)
+    res = dict(rows=rows, step=step)
+    if not quick:
+        text, res["convergence"] = convergence(tables, next(iter(CASES)))
+        print(file=out)
+        print(text, file=out)
+    if output is not None:
+        figure(next(r for r in rows if r["y"] == 0.0 and r["case"] == next(iter(CASES))), output)
+    return res
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--output", type=Path, default=Path(__file__).parent / "figures" / "contact-rolling-y0.png")
+    args = parser.parse_args()
+    main(args.quick, args.output)
