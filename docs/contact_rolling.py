@@ -39,7 +39,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from contact_elastic import SETUP, Wheel, semi_outline, tables_for  # noqa: E402  (the geometry)
 
-from railwear.contact import fastsim, flexibilities, rolling_contact  # noqa: E402
+from railwear.contact import fastsim, rolling_contact  # noqa: E402
+from railwear.contact.strip_fastsim import strip_fastsim, strip_fastsim_grid  # noqa: E402
 
 MU = 0.3
 E, NU = SETUP["youngs_modulus"], SETUP["poisson"]
@@ -52,31 +53,6 @@ SHIFTS, QUICK_SHIFTS = (-3.0, 0.0, 3.0, 5.0), (0.0,)  # mm
 STEP, QUICK_STEP = 0.2e-3, 0.4e-3
 CONVERGENCE = (0.4e-3, 0.2e-3, 0.1e-3)
 PATHS = ("exact", "hertz", "multi-hertz", "semi-hertzian", "strip elastic", "strip semi-hertzian")
-
-
-def strip_fastsim(x, s, pressure, xi, eta, phi, a, b):
-    """FASTSIM along every strip (column) of the grid from the leading edge (largest x): traction
-    bound μ pressure, flexibilities of the ellipse a × b, rigid slip (ξ(s) - φ s, η + φ x).
-    Returns (px, py, power density per unit speed [W/m² per m/s]) on the grid; the traction is
-    released to zero where the strip leaves the contact (as FASTSIM's trailing edge)."""
-    L1, L2, L3 = (float(v) for v in flexibilities(a, b, G, NU))
-    dx = x[1] - x[0]
-    c, xa = np.sqrt(a * b), float(np.mean(np.abs(xi)))
-    Lx = L1 if xa + c * abs(phi) == 0 else (xa * L1 + c * abs(phi) * L3) / (xa + c * abs(phi))
-    Ly = L2 if abs(eta) + c * abs(phi) == 0 else (abs(eta) * L2 + c * abs(phi) * L3) / (abs(eta) + c * abs(phi))
-    px, py, pd = np.zeros(pressure.shape), np.zeros(pressure.shape), np.zeros(pressure.shape)
-    qx, qy = np.zeros(s.size), np.zeros(s.size)
-    rx = xi / L1 - phi * s / L3
-    for i in range(x.size - 1, -1, -1):
-        hx, hy = qx - rx * dx, qy - (eta / L2 + phi * x[i] / L3) * dx
-        bound = MU * pressure[i]
-        h = np.hypot(hx, hy)
-        scale = np.where(h > bound, bound / np.where(h > 0, h, 1.0), 1.0)
-        nx_, ny_ = hx * scale, hy * scale
-        pd[i] = -(0.5 * (qx + nx_) * Lx * (nx_ - hx) + 0.5 * (qy + ny_) * Ly * (ny_ - hy)) / dx
-        qx, qy = nx_, ny_
-        px[i], py[i] = qx, qy
-    return px, py, pd
 
 
 def _totals(x, s, pressure, px, py, power):
@@ -131,21 +107,35 @@ def _ellipse_paths(points, region, xi0, r0, eta, planar_phi=None):
                 / sum(np.pi * p["a"] * p["b"] for p, _, _ in out))
 
 
-def _semi_pressure(region, wheel, tables, y, members):
-    """The semi-hertzian patches of the region on its grid: list of (pressure, point)."""
+def _semi_strips(region, wheel, tables, y, members):
+    """The semi-hertzian patches of the region as strips on its grid's columns: list of
+    (columns, half-lengths, point)."""
     outlines = semi_outline(dict(wheel=wheel, y=y), tables)
     out = []
     yw = region.wheel_y(region.s)
-    x = region.x
-    cell = (x[1] - x[0]) * (region.s[1] - region.s[0])
     for o, p in zip(outlines, _points(tables, "semi-hertzian", y)):
         if p["k"] not in members:
             continue
         L = np.interp(yw, o["y"], o["L"], left=0.0, right=0.0)
-        shape = np.sqrt(np.clip(L[None, :] ** 2 - x[:, None] ** 2, 0.0, None))
-        if shape.sum() > 0:
-            out.append((shape * p["N"] / (shape.sum() * cell), p))
+        cols = np.flatnonzero(L > 0)
+        if cols.size:
+            out.append((cols, L[cols], p))
     return out
+
+
+def _strip_paths(region, semi, xi, eta, phi):
+    """Strip-wise FASTSIM (``railwear.contact.strip_fastsim``) on every semi-hertzian patch of the
+    region, summed: totals as ``_totals`` (Mz about the patches' joint load centroid)."""
+    ds = region.s[1] - region.s[0]
+    res = [(strip_fastsim(region.s[cols], ds, L, p["N"], xi[cols], eta, phi, MU, G, NU, p["a"], p["b"]), cols, L, p)
+           for cols, L, p in semi]
+    N = sum(p["N"] for _, _, _, p in res)
+    sc = sum(np.sum(0.5 * np.pi * L**2 * ds * r.pressure_scale * region.s[cols]) for r, cols, L, _ in res) / N
+    Fx, Fy = sum(r.Fx for r, *_ in res), sum(r.Fy for r, *_ in res)
+    Mz = sum(r.Mz for r, *_ in res) + sc * Fx
+    area = [2.0 * np.sum(L) * ds for _, _, L, _ in res]
+    slip = sum(r.slip_fraction * A for (r, *_), A in zip(res, area)) / sum(area)
+    return dict(Fx=Fx, Fy=Fy, F=np.hypot(Fx, Fy), Mz=Mz, N=N, P=sum(r.power_local for r, *_ in res), slip=slip)
 
 
 def solve_shift(y, tables, step, cases):
@@ -167,7 +157,7 @@ def solve_shift(y, tables, step, cases):
         b = 0.5 * (res.s[jj[-1]] - res.s[jj[0]] + (res.s[1] - res.s[0]))
         a = res.area / (np.pi * b)
         members = {m: [p for p in _points(tables, m, y) if _region_of(regions, p["y"]) == k] for m in tables}
-        semi = _semi_pressure(region, wheel, tables, y, [p["k"] for p in members["semi-hertzian"]])
+        semi = _semi_strips(region, wheel, tables, y, [p["k"] for p in members["semi-hertzian"]])
         for label, (xi0, eta, planar) in cases.items():
             xi = xi0 - phi * res.s if planar else 1.0 - (1.0 - xi0) * radius / r0
             start = time.perf_counter()
@@ -180,21 +170,10 @@ def solve_shift(y, tables, step, cases):
                                    slip=ex.slip_fraction, P_local=ex.power_local)}
             for m in ("hertz", "multi-hertz", "semi-hertzian"):
                 paths[m] = _ellipse_paths(members[m], region, xi0, r0, eta, phi if planar else None)
-            px, py, pd = strip_fastsim(res.x, res.s, res.pressure, xi, eta, phi, a, b)
-            cell = (res.x[1] - res.x[0]) * (res.s[1] - res.s[0])
-            paths["strip elastic"] = dict(_totals(res.x, res.s, res.pressure, px, py, pd.sum() * cell),
-                                          slip=float(((np.hypot(px, py) >= MU * res.pressure * (1 - 1e-12)) & on).sum()
-                                                     / on.sum()))
-            if semi:
-                total_p = sum(p for p, _ in semi)
-                sx, sy, power = np.zeros(on.shape), np.zeros(on.shape), 0.0
-                for p, pt in semi:
-                    qx, qy, qd = strip_fastsim(res.x, res.s, p, xi, eta, phi, pt["a"], pt["b"])
-                    sx, sy, power = sx + qx, sy + qy, power + qd.sum() * cell
-                paths["strip semi-hertzian"] = dict(_totals(res.x, res.s, total_p, sx, sy, power),
-                                                    slip=float((np.hypot(sx, sy) >= MU * total_p * (1 - 1e-12))[total_p > 0].mean()))
-            else:
-                paths["strip semi-hertzian"] = None
+            g = strip_fastsim_grid(res.x, res.s, res.pressure, xi, eta, phi, MU, G, NU, a, b)
+            paths["strip elastic"] = dict(_totals(res.x, res.s, res.pressure, g.px, g.py, g.power_local),
+                                          slip=float((g.slip & on).sum() / on.sum()))
+            paths["strip semi-hertzian"] = _strip_paths(region, semi, xi, eta, phi) if semi else None
             rows.append(dict(y=y, region=k, angle=region.angle, case=label, paths=paths, exact=ex, seconds=seconds,
                              elements=int(on.sum()), region_obj=region, wheel_y=yw, xi=xi, phi=phi,
                              share=res.normal_force * np.cos(region.angle) / wheel.load))

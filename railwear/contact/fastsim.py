@@ -68,8 +68,6 @@ _TAIL_STEPS = 8  # sub-steps of the last half cell, where the traction is releas
 @njit(cache=True, inline="always")
 def _march(px, py, step, xm, x, y, rx, eta, phi, L2, L3, a, b, pmax, parabolic, at_edge, Lx, Ly):
     """One FASTSIM increment of length ``step`` ending at x: new traction, slip flag, dissipation/V/dy."""
-    hx = px - rx * step
-    hy = py - (eta / L2 + phi * xm / L3) * step
     if at_edge:
         bound = 0.0
     else:
@@ -78,6 +76,16 @@ def _march(px, py, step, xm, x, y, rx, eta, phi, L2, L3, a, b, pmax, parabolic, 
             bound = pmax * max(0.0, 1.0 - r2)
         else:
             bound = pmax * np.sqrt(max(0.0, 1.0 - r2))
+    return increment(px, py, step, xm, rx, eta, phi, L2, L3, bound, Lx, Ly)
+
+
+@njit(cache=True, inline="always")
+def increment(px, py, step, xm, rx, eta, phi, L2, L3, bound, Lx, Ly):
+    """One FASTSIM increment of length ``step`` (midpoint ``xm``) under the traction bound
+    ``bound`` [Pa] at its end: new traction, slip flag, dissipation/V/dy (``_march``; shared with
+    :mod:`railwear.contact.strip_fastsim`)."""
+    hx = px - rx * step
+    hy = py - (eta / L2 + phi * xm / L3) * step
     h = np.sqrt(hx * hx + hy * hy)
     slipping = h > bound
     if slipping:
