@@ -41,7 +41,9 @@ from railwear.contact._checks import non_negative, positive
 from railwear.contact.hertz import _mnr_from_ratio, effective_modulus
 from railwear.errors import ScenarioError
 
-__all__ = ["SemiHertzContact", "semi_hertz_contact", "hertz_matched_factors"]
+__all__ = ["SemiHertzContact", "semi_hertz_contact", "hertz_matched_factors", "patch_strips", "STRIPS"]
+
+STRIPS = 32  # strips per patch that the contact tables store (patch_strips)
 
 _Q_MAX = 1e5  # tabulated range of A / B_eff: [1/_Q_MAX, _Q_MAX]
 _Q_NODES = 4001
@@ -210,6 +212,27 @@ def patch_kernel(f, start, h, A, approach, estar, u, eps_t, ap_t, q, jl=-1, jr=-
         Lmax = max(Lmax, np.sqrt(max((level - f[start - k]) / Ap, 0.0)))
     centroid = (mr + ml) / (lr + ll)
     return N, P * L0, Lmax, -tl * h, tr * h, ar + al, centroid, eps, B
+
+
+@njit(cache=True)
+def patch_strips(f, start, h, A, approach, epsilon, curvature, s_min, s_max, u, eps_t, ap_t, L):
+    """The patch of ``patch_kernel`` (same ``f``, ``start``, ``h``, ``A``, ``approach``; its
+    ``ε``, ``B_eff`` and lateral edges ``s_min``, ``s_max``) resampled as ``L.size`` strips of
+    equal width across it: fills ``L`` with the half-lengths ``sqrt((ε δ - f(s)) / A')`` at the
+    strip centres ``s_min + (k + 1/2) (s_max - s_min) / L.size`` (``f`` linear between its
+    nodes). Returns the strip width [m]."""
+    ns = L.shape[0]
+    width = (s_max - s_min) / ns
+    _, Ap = _factors(A, curvature, u, eps_t, ap_t)
+    level = epsilon * approach
+    n = f.shape[0]
+    for k in range(ns):
+        pos = start + (s_min + (k + 0.5) * width) / h
+        j = min(max(int(np.floor(pos)), 0), n - 2)
+        w = pos - j
+        fs = (1.0 - w) * f[j] + w * f[j + 1]
+        L[k] = np.sqrt(max(level - fs, 0.0) / Ap)
+    return width
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,7 @@ from scipy.optimize import brentq
 
 from railwear.contact import hertz_contact, kalker_coefficients
 from railwear.contact.multipoint import _semi_wheel
+from railwear.contact.semi_hertz import patch_strips
 from railwear.geometry.contact_models import CONTACT_MODELS, point_contacts, resultant
 from railwear.errors import ScenarioError
 from railwear.geometry.profiles import Profile
@@ -284,11 +285,12 @@ _CAP = 4.0  # semi-hertzian: the approach is sought below _CAP times the primary
 
 @njit(cache=True)
 def _semi_table(shifts, yaws, theta, drop, G, yp, cosg, A, K0, Q, estar, wx, wc, rx, rc, yw0, yr0, r0, h, J,
-                u, eps_t, ap_t, out, delta):
+                u, eps_t, ap_t, out, delta, strips):
     """Semi-Hertzian patches for every shift and wheel (``railwear.geometry.contact_models``):
     the gap sampled on ``h`` around every minimum of gap ``G`` below the bound, solved by
     ``multipoint._semi_wheel``; fills ``out``
-    (n, 2, P, fields) and ``delta`` (n, 2)."""
+    (n, 2, P, fields), ``delta`` (n, 2) and the loaded patches' strip half-lengths ``strips``
+    (n, 2, P, strips; ``semi_hertz.patch_strips``, zero for a patch without load)."""
     n, _, P = G.shape
     F = np.empty((P, 2 * J + 1))
     starts = np.full(P, J, dtype=np.int64)
@@ -335,6 +337,11 @@ def _semi_table(shifts, yaws, theta, drop, G, yp, cosg, A, K0, Q, estar, wx, wc,
                 pos[i] = yp[k, side, i] if np.isfinite(G[k, side, i]) else np.nan
             delta[k, side] = _semi_wheel(F, starts, hs, G[k, side], cosg[k, side], A[k, side], pos, h, Q, estar,
                                          u, eps_t, ap_t, cap, out[k, side])
+            for i in range(P):
+                if out[k, side, i, 0] > 0.0:
+                    patch_strips(F[i], J, hs[i], A[k, side, i], (delta[k, side] - G[k, side, i]) * cosg[k, side, i],
+                                 out[k, side, i, 7], out[k, side, i, 8], out[k, side, i, 3], out[k, side, i, 4], u,
+                                 eps_t, ap_t, strips[k, side, i])
 
 
 def gauge_point(rail, depth=0.014):
@@ -578,6 +585,10 @@ _POINT_VARS = {  # name: (units, long_name)
     "lateral_max": ("m", "patch edge on the wheel profile, field side"),
     "virtual_penetration_ratio": ("1", "virtual penetration over the approach"),
     "patch_curvature": ("1/m", "lateral curvature of the interpenetration region, approach / half-width^2"),
+    "strip_width": ("m", "width of the patch's strips across rolling, in its contact plane"),
+    "strip_wheel_y": ("m", "strip centre on the wheel profile"),
+    "strip_half_length": ("m", "half-length of the strip along rolling"),
+    "strip_rolling_radius": ("m", "rolling radius at the strip centre"),
 }
 
 
@@ -587,7 +598,7 @@ def _add_points(ds, points, approach, model):
     dims = ("y", "side", "point")
     for name, value in points.items():
         units, long_name = _POINT_VARS[name]
-        ds[f"point_{name}"] = (dims, value, dict(units=units, long_name=long_name))
+        ds[f"point_{name}"] = (dims + ("strip",) * (value.ndim - 3), value, dict(units=units, long_name=long_name))
     share = points["f11"] / points["f11"].sum(-1, keepdims=True)
     ds["point_creep_share"] = (dims, share, dict(units="1", long_name="share f11 / sum f11 of the wheel's contacts"))
     ds["vertical_approach"] = (("y", "side"), approach, dict(units="m", long_name="vertical approach of the wheel under its load"))
@@ -597,6 +608,9 @@ def _add_points(ds, points, approach, model):
                  "contact_X", "a", "b", "c11", "c22", "c23", "c33"):
         ds[name].attrs["long_name"] = f"resultant of the {model} contacts: " + ds[name].attrs["long_name"]
     ds = ds.assign_coords(point=("point", np.arange(points["gap"].shape[-1]), dict(long_name="contact of the wheel, by gap")))
+    if "strip_half_length" in points:
+        ds = ds.assign_coords(strip=("strip", np.arange(points["strip_half_length"].shape[-1]),
+                                     dict(long_name="strip of the patch across rolling, from the flange side")))
     return ds
 
 

@@ -31,7 +31,7 @@ from railwear.contact import hertz_contact, kalker_coefficients
 from railwear.contact.constants import creep_coefficients, shear_modulus
 from railwear.contact.hertz import effective_modulus
 from railwear.contact.multipoint import SEMI_FIELDS, hertz_stiffness, share_load
-from railwear.contact.semi_hertz import _APRIME, _EPS, _U
+from railwear.contact.semi_hertz import _APRIME, _EPS, _U, STRIPS
 from railwear.errors import ScenarioError
 
 __all__ = ["CONTACT_MODELS", "point_contacts", "resultant"]
@@ -89,9 +89,10 @@ def point_contacts(model, shifts, yaws, theta, drop, gaps, where, rails, xs, whe
         soft = ~(K0 > 0) & np.isfinite(A[:, :, 0])
         K0[soft] = hertz_stiffness(A[:, :, 0][soft], A[:, :, 0][soft], youngs_modulus, poisson)
         estar = float(effective_modulus(youngs_modulus, poisson))
+        strips = np.zeros(G.shape + (STRIPS,))
         semi_table(shifts, yaws, theta, drop, np.ascontiguousarray(G), np.ascontiguousarray(ypv), np.ascontiguousarray(cosg),
                     np.ascontiguousarray(A), np.ascontiguousarray(K0), Q, estar, wx, wc, rx, rc, yw0, yr0,
-                    rolling_radius, step, J, _U, _EPS, _APRIME, out, delta)
+                    rolling_radius, step, J, _U, _EPS, _APRIME, out, delta, strips)
         if np.any(~np.isfinite(delta)):
             raise ScenarioError("semi-hertzian contact: no approach carries the load (check the profiles)")
         field = {name: out[..., k] for k, name in enumerate(SEMI_FIELDS)}
@@ -110,6 +111,14 @@ def point_contacts(model, shifts, yaws, theta, drop, gaps, where, rails, xs, whe
                  "lateral_max": np.where(active, yp + field["s_max"] * cosg, np.nan),
                  "virtual_penetration_ratio": np.where(active, field["epsilon"], np.nan),
                  "patch_curvature": np.where(active, field["curvature"], np.nan)}
+        # the strips (semi_hertz.patch_strips): centres across the patch in its plane, on the wheel profile
+        strip_width = np.where(active, width / STRIPS, 0.0)
+        centre = field["s_min"][..., None] + (np.arange(STRIPS) + 0.5) * strip_width[..., None]
+        strip_y = np.where(active[..., None], yp[..., None] + centre * cosg[..., None], np.nan)
+        extra.update(strip_width=strip_width, strip_wheel_y=strip_y,
+                     strip_half_length=np.where(active[..., None], strips, 0.0),
+                     strip_rolling_radius=np.where(active[..., None],
+                                                   rolling_radius + wheel(np.nan_to_num(strip_y)), np.nan))
     loaded = N > 0.0
     c11, c22, c23, c33 = (np.full(G.shape, np.nan) for _ in range(4))
     c11[loaded], c22[loaded], c23[loaded], c33[loaded] = kalker_coefficients(a[loaded] / b[loaded], poisson)
