@@ -18,6 +18,8 @@ import numpy as np
 from numba import literally, njit, typeof, types
 from numba.extending import overload
 
+from railwear.contact.strip_fastsim import STRIP_CELLS, strip_march
+
 # model kinds
 KIND_LINEAR = 0  # y' = A y, A in p[1:] (n = p[0]); tests of the integrators
 KIND_VAN_DER_POL = 1  # y0' = y1, y1' = mu (1 - y0^2) y1 - y0, mu = p[0]; stiff test
@@ -137,7 +139,10 @@ TW_DY = 11
 TW_N_POINTS = 12
 TW_OUTSIDE_STIFFNESS = 13  # lateral spring beyond the table's range [N/m]
 TW_N_CONTACTS = 14  # contacts per wheel evaluated one by one (0: the per-wheel resultant only)
-TW_N_PARAMS = 15
+TW_STRIPS = 15  # strips per contact for strip-wise FASTSIM (creep_law "strip-fastsim"); 0: Kalker + cubic law
+TW_N_PARAMS = 16
+TW_N_STRIP_HEAD = 5  # per contact in surf after the point block: L1, L2, L3, sqrt(a b), strip width; then
+TW_N_STRIP_FIELDS = 3  # per strip: lateral position in the contact plane (Kalker's y), half-length, rolling radius
 TW_N_FIELDS = 8  # per side in surf: rolling radius, contact angle, normal force, f11, f22, f23, f33,
 # contact position on the wheel profile; with TW_N_CONTACTS = P > 0 the same 8 fields follow for each
 # of the P contacts of the left wheel, then of the right (``_point_column``)
@@ -408,6 +413,12 @@ def _table_point(side, point, yaw, vlat, vyaw, p, o, surf, n, j, w, contacts, ra
     xi = sign * (ratio - p[o + TW_HALF_GAUGE] * vyaw / v) - 2.0 * (radius - r_wheel) / radii
     eta = (vlat / v - yaw) / cosd
     phi = vyaw * cosd / v - sign * sind / radius
+    strips = int(p[o + TW_STRIPS])
+    if strips > 0:
+        fx, fy, mz, power = _strip_point(side, point, xi, eta, phi, -sign * sind / radius, radius, r_wheel, radii,
+                                         normal, p, o, surf, n, j, w, contacts, strips)
+        return (xi, eta, phi, fx, fy, mz, v * power, normal, delta,
+                _point_column(surf, n, j, w, side, contacts, point, 7))
     f23 = scale * _point_column(surf, n, j, w, side, contacts, point, 5)
     fx = -scale * _point_column(surf, n, j, w, side, contacts, point, 3) * xi
     fy = -scale * _point_column(surf, n, j, w, side, contacts, point, 4) * eta - f23 * phi
@@ -418,6 +429,59 @@ def _table_point(side, point, yaw, vlat, vyaw, p, o, surf, n, j, w, contacts, ra
     mz *= s
     return (xi, eta, phi, fx, fy, mz, -v * (fx * xi + fy * eta + mz * phi), normal, delta,
             _point_column(surf, n, j, w, side, contacts, point, 7))
+
+
+@njit(cache=True)
+def _strip_point(side, point, xi, eta, phi, spin_geo, radius, r_wheel, radii, normal, p, o, surf, n, j, w, contacts,
+                 strips):
+    """Strip-wise FASTSIM of one contact (``railwear.contact.strip_fastsim``, semi-elliptic pressure
+    carrying ``normal``, flexibilities of the patch's equivalent ellipse): ``(Fx, Feta, Mz, power
+    per unit speed)``, Mz about the contact's load centroid. Strip ``k`` has the longitudinal
+    creepage of its own rolling radius, ``xi - 2 (r_k - r) / radii`` (``xi``, ``r`` the contact's),
+    and the spin of the contact; the radius already holds the first-order change of the rolling
+    speed across the plane that Kalker's ``-phi y`` term carries (the axle's rotation seen in the
+    tangent plane, ``spin_geo`` = ``-+ sin(delta) / r``), so that part is taken out of the strip's
+    creepage (``+ spin_geo y_k``) and left to FASTSIM's spin term: on a cone the strips then have
+    the contact's ``xi`` and FASTSIM's kinematics, on a curved profile the remainder of the
+    radius change."""
+    stride = TW_N_STRIP_HEAD + TW_N_STRIP_FIELDS * strips
+    base = (2 + 2 * contacts) * TW_N_FIELDS * n + (side * contacts + point) * stride * n
+    scale = p[o + TW_CREEP_SCALE]
+    L1 = (1.0 - w) * surf[base + j] + w * surf[base + j + 1]
+    L2 = (1.0 - w) * surf[base + n + j] + w * surf[base + n + j + 1]
+    L3 = (1.0 - w) * surf[base + 2 * n + j] + w * surf[base + 2 * n + j + 1]
+    c = (1.0 - w) * surf[base + 3 * n + j] + w * surf[base + 3 * n + j + 1]
+    width = (1.0 - w) * surf[base + 4 * n + j] + w * surf[base + 4 * n + j + 1]
+    L1 /= scale
+    L2 /= scale
+    L3 /= scale
+    shape = 0.0
+    for k in range(strips):
+        at = base + (TW_N_STRIP_HEAD + TW_N_STRIP_FIELDS * k + 1) * n + j
+        half = (1.0 - w) * surf[at] + w * surf[at + 1]
+        shape += half * half
+    if not shape > 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    pressure = normal / (0.5 * math.pi * shape * width)
+    mu = p[o + TW_FRICTION]
+    fx = 0.0
+    fy = 0.0
+    mz = 0.0
+    power = 0.0
+    for k in range(strips):
+        at = base + (TW_N_STRIP_HEAD + TW_N_STRIP_FIELDS * k) * n + j
+        y = (1.0 - w) * surf[at] + w * surf[at + 1]
+        half = (1.0 - w) * surf[at + n] + w * surf[at + n + 1]
+        r_k = (1.0 - w) * surf[at + 2 * n] + w * surf[at + 2 * n + 1]
+        if not half > 0.0:
+            continue
+        xi_k = xi - 2.0 * (r_k - radius) / radii + spin_geo * y
+        sx, sy, sm, sp, _ = strip_march(y, half, mu * pressure * half, xi_k, eta, phi, L1, L2, L3, c, STRIP_CELLS)
+        fx += sx * width
+        fy += sy * width
+        mz += sm * width
+        power += sp * width
+    return fx, fy, mz, power
 
 
 @njit(cache=True, inline="always")

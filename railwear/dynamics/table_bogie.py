@@ -11,7 +11,7 @@ from railwear.dynamics import kernels as k
 from railwear.dynamics._fields import number, pack
 from railwear.dynamics.bogie import BogieFrame, BogieModel
 from railwear.dynamics.linear import numerical_state_matrix
-from railwear.dynamics.table_wheelset import point_dataset, table_geometry, table_params
+from railwear.dynamics.table_wheelset import creep_law_strips, point_dataset, table_geometry, table_params
 from railwear.errors import ScenarioError
 
 __all__ = ["TableBogieModel"]
@@ -31,6 +31,7 @@ class TableBogieModel(BogieFrame):
     spin: bool = True
     outside_stiffness: float = 1e8
     initial_lateral_displacement: float = 1e-3
+    creep_law: str = "cubic"
 
     kind = k.KIND_TABLE_BOGIE
 
@@ -38,7 +39,7 @@ class TableBogieModel(BogieFrame):
         self._check_frame(positive=("creep_scale",), nonnegative=("outside_stiffness",), finite=("outside_stiffness",))
         if not number(self, "friction_coefficient") > 0.0:
             raise ScenarioError(f"friction_coefficient: must be positive (inf for none), got {self.friction_coefficient!r}")
-        object.__setattr__(self, "_geometry", table_geometry(self.table, bool(self.spin)))
+        object.__setattr__(self, "_geometry", table_geometry(self.table, bool(self.spin), creep_law_strips(self)))
 
     @classmethod
     def cooperrider(cls, speed, table, **overrides):

@@ -41,6 +41,10 @@ class TableWheelsetModel:
     ``creep_scale`` multiplies the creep coefficients (1000 or more: the kinematic limit, with
     ``spin=False``, since scaled spin creep forces are not kinematic);
     ``outside_stiffness`` [N/m] holds the wheelset inside the table's range of shifts.
+    ``creep_law``: ``"cubic"`` (default: each contact's Kalker forces with the cubic saturation)
+    or, on a semi-hertzian table, ``"strip-fastsim"``: each contact by FASTSIM strip by strip on
+    the table's strips of its patch (``railwear.contact.strip_fastsim``; every strip its own
+    rolling radius; the contact's power FASTSIM's local dissipation).
     """
 
     speed: float
@@ -59,6 +63,7 @@ class TableWheelsetModel:
     initial_yaw_angle: float = 0.0
     initial_lateral_velocity: float = 0.0
     initial_yaw_rate: float = 0.0
+    creep_law: str = "cubic"
 
     kind = k.KIND_TABLE_WHEELSET
     n_states = 4
@@ -74,7 +79,7 @@ class TableWheelsetModel:
         )
         if not number(self, "friction_coefficient") > 0.0:
             raise ScenarioError(f"friction_coefficient: must be positive (inf for none), got {self.friction_coefficient!r}")
-        object.__setattr__(self, "_geometry", table_geometry(self.table, bool(self.spin)))
+        object.__setattr__(self, "_geometry", table_geometry(self.table, bool(self.spin), creep_law_strips(self)))
 
     def params(self, speed=None) -> np.ndarray:
         return table_params(self, speed)
@@ -110,12 +115,31 @@ class TableWheelsetModel:
         return numerical_state_matrix(self.kind, p, self.n_states, self.surface())
 
 
+CREEP_LAWS = ("cubic", "strip-fastsim")
+
+
+def creep_law_strips(model):
+    """Whether ``model.creep_law`` asks for strip-wise FASTSIM (checked: a one-line error for an
+    unknown law, or for strips without a semi-hertzian table or without spin)."""
+    law = getattr(model, "creep_law", "cubic")
+    if law not in CREEP_LAWS:
+        raise ScenarioError(f"creep_law: must be one of {', '.join(CREEP_LAWS)}, got {law!r}")
+    if law == "cubic":
+        return False
+    if "point_strip_half_length" not in model.table.data_vars:
+        raise ScenarioError("creep_law: 'strip-fastsim' needs a semi-hertzian contact table (its strips)")
+    if not model.spin:
+        raise ScenarioError("creep_law: 'strip-fastsim' takes the spin of every contact (spin=True)")
+    return True
+
+
 def table_params(model, speed, **derived):
     """The ``TW_*`` parameter array of a model on real profiles (its ``_geometry`` from
     ``table_arrays``); ``derived`` fills what the model's fields do not."""
-    y, _, e0, contacts = model._geometry
+    y, _, e0, contacts = model._geometry[:4]
+    strips = model._geometry[4] if len(model._geometry) > 4 else 0
     return pack(model, "TW_", k.TW_N_PARAMS, speed, half_gauge=e0, y_min=y[0], dy=y[1] - y[0], n_points=y.size,
-                n_contacts=contacts, **derived)
+                n_contacts=contacts, strips=strips, **derived)
 
 
 def point_dataset(rows, dims, coords):
@@ -133,7 +157,7 @@ def point_dataset(rows, dims, coords):
     return xr.Dataset(data, coords=coords)
 
 
-def table_geometry(table, spin=True):
+def table_geometry(table, spin=True, strips=False):
     """What the compiled table models read: ``(y, surf, e0, P)``, ``table_arrays``' grid, kernel
     array and half distance, the array followed, for a table with a ``point`` dimension
     (``contact_model`` "multi-hertz", "semi-hertzian"), by the ``TW_N_FIELDS`` columns of each of
@@ -161,7 +185,56 @@ def table_geometry(table, spin=True):
     if not np.all(np.isfinite(block)):
         raise ScenarioError("table: a loaded contact lacks a finite rolling radius, angle, position or creep "
                             "coefficient")
-    return y, np.concatenate([surf, block]), e0, contacts
+    if not strips:
+        return y, np.concatenate([surf, block]), e0, contacts
+    return y, np.concatenate([surf, block, strip_block(table, tracks, contacts)]), e0, contacts, \
+        table.sizes["strip"]
+
+
+def strip_block(table, tracks, contacts):
+    """The kernels' strip columns (``kernels._strip_point``) of every tracked contact, left wheel
+    first, ``y`` to the left: FASTSIM's flexibilities L1, L2, L3 of the patch's equivalent
+    ellipse (``point_a``, ``point_b``), ``sqrt(a b)``, the strip width, then per strip its
+    lateral position in the contact plane about the contact's load centroid, in Kalker's frame
+    of the wheel (``+-(strip_wheel_y - wheel_y) / cos(angle)``, + left: the wheelset's y), its
+    half-length and its rolling radius (held where the contact carries no load)."""
+    from railwear.contact.fastsim import flexibilities
+
+    youngs, poisson = float(table.attrs["youngs_modulus"]), float(table.attrs["poisson"])
+    shear = shear_modulus(youngs, poisson)
+    columns = []
+    for side, sign in (("left", 1.0), ("right", -1.0)):
+        for point in range(contacts):
+            index = tracks[side][:, point]
+            a, b, y, angle = (tracked(table, side, index, f"point_{v}") for v in ("a", "b", "wheel_y", "contact_angle"))
+            a, b = np.where(a > 0, a, 1.0), np.where(b > 0, b, 1.0)  # never loaded: any finite ellipse
+            head = list(flexibilities(a, b, shear, poisson)) + [np.sqrt(a * b),
+                                                                 tracked(table, side, index, "point_strip_width")]
+            columns += [np.asarray(v, dtype=float)[::-1] for v in head]
+            lateral, half, radius = (tracked_strips(table, side, index, f"point_strip_{v}")
+                                     for v in ("wheel_y", "half_length", "rolling_radius"))
+            lateral = sign * (lateral - y[:, None]) / np.cos(angle)[:, None]
+            for s in range(half.shape[1]):
+                columns += [np.nan_to_num(v[::-1, s]) for v in (lateral, half, radius)]
+    block = np.concatenate(columns)
+    if not np.all(np.isfinite(block)):
+        raise ScenarioError("table: a loaded contact's strips are not finite")
+    return block
+
+
+def tracked_strips(table, side, index, name):
+    """``tracked`` for a variable over ``(y, point, strip)``: ``(y, strip)`` along one contact."""
+    values = np.asarray(table[name].sel(side=side).values, dtype=float)
+    loaded = index >= 0
+    out = np.zeros((index.size, values.shape[-1]))
+    if not loaded.any():
+        return out
+    where = np.flatnonzero(loaded)
+    out[loaded] = values[where, index[loaded]]
+    pos = np.searchsorted(where, np.arange(index.size))
+    above, below = where[np.clip(pos, 0, where.size - 1)], where[np.clip(pos - 1, 0, where.size - 1)]
+    nearest = np.where(np.abs(below - np.arange(index.size)) < np.abs(above - np.arange(index.size)), below, above)
+    return out[nearest]
 
 
 def point_tracks(table):

@@ -260,3 +260,50 @@ def test_linear_critical_speed_on_the_semi_hertzian_table(semi):
     after = critical_speed(TableBogieModel.cooperrider(20.0, semi))
     assert before == pytest.approx(18.867, abs=2e-3)
     assert after == pytest.approx(21.477, abs=2e-3)
+
+
+def test_strip_fastsim_creep_law(semi, hertz):
+    """creep_law="strip-fastsim" on the semi-hertzian table: each contact's forces are the library's
+    strip-wise FASTSIM (railwear.contact.strip_fastsim) on the table's strips at that shift, every
+    strip's creepage from its own radius (the first-order part carried by the spin term); the
+    cubic law's right-hand side stays as it was (asserted on the same model with creep_law
+    "cubic"); the linear critical speed 68.51 -> 78.39 m/s. Refused on a table without strips."""
+    from railwear.contact.strip_fastsim import strip_fastsim
+    from railwear.errors import ScenarioError
+
+    cubic = TableWheelsetModel(speed=40.0, **SUSPENSION, table=semi, friction_coefficient=0.3)
+    strip = TableWheelsetModel(speed=40.0, **SUSPENSION, table=semi, friction_coefficient=0.3,
+                               creep_law="strip-fastsim")
+    plain = TableWheelsetModel(speed=40.0, **SUSPENSION, table=semi.drop_vars(
+        [v for v in semi.data_vars if v.startswith("point_strip")] + ["strip"]), friction_coefficient=0.3)
+    state = np.array([2e-3, 1e-4, 0.01, 0.0])  # table y = -2 mm, a node: no interpolation
+    d = [np.zeros(4) for _ in range(3)]
+    for m, out in zip((cubic, plain, strip), d):
+        kernels.table_wheelset_rhs(0.0, state, m.params(), m.surface(), out)
+    assert np.array_equal(d[0], d[1]) and not np.allclose(d[0], d[2], rtol=1e-3)
+    rows = kernels.table_point_rows(state[None, :], strip.params(), 0, strip.surface(), np.arange(4))
+    rows = rows.reshape(2, strip.contacts, kernels.TW_N_POINT_OUTPUTS)
+    row = semi.sel(y=-2e-3, method="nearest")
+    tracks = point_tracks(semi)
+    j = int(np.argmin(np.abs(semi.y.values + 2e-3)))
+    for w, (side, sign) in enumerate((("left", 1.0), ("right", -1.0))):
+        for c in range(strip.contacts):
+            i = tracks[side][j, c]
+            if i < 0:
+                continue
+            pt = row.sel(side=side).isel(point=i)
+            xi, eta, phi = rows[w, c, :3]
+            angle, yc, r = float(pt.point_contact_angle), float(pt.point_wheel_y), float(pt.point_rolling_radius)
+            s = sign * (pt.point_strip_wheel_y.values - yc) / np.cos(angle)
+            radii = float(row.rolling_radius.sum("side"))
+            xis = xi - 2 * (pt.point_strip_rolling_radius.values - r) / radii - sign * np.sin(angle) / r * s
+            ref = strip_fastsim(s, float(pt.point_strip_width), pt.point_strip_half_length.values,
+                                float(pt.point_normal_force), xis, eta, phi, 0.3, 2.1e11 / 2.56, 0.28,
+                                float(pt.point_a), float(pt.point_b))
+            assert rows[w, c, 3:6] == pytest.approx([ref.Fx, ref.Fy, ref.Mz], rel=1e-9, abs=1e-9)
+            assert rows[w, c, 6] == pytest.approx(40.0 * ref.power_local, rel=1e-9)
+    assert critical_speed(strip) == pytest.approx(78.394, abs=2e-3)
+    with pytest.raises(ScenarioError, match="creep_law"):
+        TableWheelsetModel(speed=40.0, **SUSPENSION, table=hertz, creep_law="strip-fastsim")
+    with pytest.raises(ScenarioError, match="creep_law"):
+        TableBogieModel.cooperrider(20.0, semi, creep_law="fastsim")
