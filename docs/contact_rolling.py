@@ -7,18 +7,22 @@ Run: python docs/contact_rolling.py [--quick] [--output PATH]
 The normal pressure is the elastic half-space reference of ``docs/contact_elastic.py`` (its
 geometry, tangent planes and load sharing, imported from it). On each plane
 :func:`railwear.contact.rolling_contact` solves the tangential problem with the rigid slip of the
-wheel: the longitudinal creepage of every strip from its own rolling radius,
-``ξ(s) = 1 - (1 - ξ0) r(s) / r0`` (ξ0 at the deepest minimum of the main region, radius r0), the
-lateral creepage η and the spin of the plane's contact angle ``φ = -sin γ / r``. railwear's paths
-get the same kinematics at their own points (``ξ_i`` from the point's radius, ``φ_i = -sin γ_i /
-r_i``):
+wheel (:func:`kinematics`, the same for every path): the axle turns at ``Ω = (1 - ξ0) V / r0``
+(ξ0 at the deepest minimum of the main region, radius r0), so a strip of rolling radius ``r(s)``
+has the longitudinal creepage ``ξ(s) = 1 - Ω r(s) / V``, and the plane of contact angle γ the
+spin ``φ = -Ω sin γ / V``. The solvers' rigid slip is ``(ξ_s - φ s, η + φ x)``, and the spin's
+longitudinal term ``-φ s`` is already the first-order part of the radius change (on a cone all of
+it), so every strip is given ``ξ_s = ξ(s) + φ s``: the longitudinal rigid slip is then the exact
+``ξ(s)``, counted once. railwear's ellipse paths get FASTSIM's kinematics at their own points
+(``ξ_i = 1 - Ω r_i / V`` uniform on the ellipse, ``φ_i = -Ω sin γ_i / V``):
 
 - (a) hertz: the single Hertz point of ``contact_table`` with FASTSIM on its ellipse;
 - (b) multi-hertz and semi-hertzian: every contact of ``contact_table(..., contact_model=...)``
   with FASTSIM on its (equivalent) ellipse;
 - (c) FASTSIM strip by strip on the elastic patch itself (Kik and Piotrowski's way: the traction
   bound is μ times the elastic pressure of the strip, the flexibilities those of the patch's
-  equivalent ellipse, same area and width), with the exact solution's rigid slip;
+  equivalent ellipse, same area and width), with the exact solution's ``ξ_s`` and φ (the
+  dynamics' ``creep_law = "strip-fastsim"`` rule: on a cone exactly FASTSIM's uniform ξ and spin);
 - (d) the same on the semi-hertzian patches (each rebuilt from the table's virtual penetration
   and patch curvature, pressure semi-elliptic along every strip and carrying the point's load).
 
@@ -47,12 +51,34 @@ E, NU = SETUP["youngs_modulus"], SETUP["poisson"]
 G = E / (2.0 * (1.0 + NU))
 CASES = {"xi = eta = 1e-3 + spin": (1e-3, 1e-3, False), "xi = eta = 4e-3 + spin": (4e-3, 4e-3, False)}
 # Kalker's planar kinematics (xi uniform, the radius change across the plane only through the
-# spin of its angle), at y = 0 only: how much of the difference is the wide patch's radii
+# spin of its angle, i.e. linearised), at y = 0 only: how much of the difference is the wide
+# patch's profile curvature (the radius change beyond first order)
 PLANAR = {"xi = eta = 1e-3, planar": (1e-3, 1e-3, True)}
 SHIFTS, QUICK_SHIFTS = (-3.0, 0.0, 3.0, 5.0), (0.0,)  # mm
 STEP, QUICK_STEP = 0.2e-3, 0.4e-3
 CONVERGENCE = (0.4e-3, 0.2e-3, 0.1e-3)
 PATHS = ("exact", "hertz", "multi-hertz", "semi-hertzian", "strip elastic", "strip semi-hertzian")
+
+
+def kinematics(xi0, r0, radius, s, angle):
+    """The rigid slip of the wheel on a plane of contact angle ``angle`` [rad], for every path:
+    ``(ξ_s, φ)`` for the solvers' ``(ξ_s - φ s, η + φ x)``, ``radius`` [m] the rolling radius of the
+    strips at ``s`` [m] (arrays, or one point at ``s = 0``), ``xi0`` the creepage at radius ``r0``.
+
+    The axle's one angular speed ``Ω / V = (1 - ξ0) / r0`` gives each strip ``ξ(s) = 1 - Ω r(s) / V``
+    and the plane the spin ``φ = -Ω sin γ / V``. The spin's longitudinal term ``-φ s`` is the axle's
+    rotation seen in the plane, i.e. the first-order part of that same radius change (on a cone,
+    ``r(s) = r(0) - s sin γ``, all of it), so it is taken out of the strip's creepage,
+    ``ξ_s = ξ(s) + φ s``, and left to the spin term, as the dynamics' ``creep_law = "strip-fastsim"``
+    does (``railwear.dynamics.kernels._strip_point``). Of the two consistent forms this is the one
+    every solver can take: the exact solver then sees the longitudinal slip ``ξ(s)`` itself (the
+    other form, exact ``ξ(s)`` with only the lateral spin term ``φ x``, is the same rigid slip to
+    round-off), and FASTSIM, which applies the spin with its own flexibility ``L3`` along and
+    across, gets on a cone exactly its uniform ξ and full spin, so that strip-wise and ellipse
+    FASTSIM differ only by the patch and the profile's curvature, not by kinematics."""
+    omega = (1.0 - xi0) / r0
+    phi = -omega * np.sin(angle)
+    return 1.0 - omega * np.asarray(radius, dtype=float) + phi * np.asarray(s, dtype=float), phi
 
 
 def _totals(x, s, pressure, px, py, power):
@@ -84,18 +110,20 @@ def _region_of(regions, yw):
     return inside[0] if inside else int(np.argmin([abs(r.y_ref - yw) for r in regions]))
 
 
-def _ellipse_paths(points, region, xi0, r0, eta, planar_phi=None):
-    """FASTSIM on each point's ellipse with its own creepages, summed in the region's plane
-    (``planar_phi``: Kalker's planar kinematics, ξ0 - φ s at the point and the plane's φ)."""
+def _ellipse_paths(points, region, xi0, r0, eta, planar=None):
+    """FASTSIM on each point's ellipse with its own creepages (:func:`kinematics` at the point's
+    radius and angle: uniform ξ_i and the spin φ_i), summed in the region's plane (``planar``:
+    ``(ξ_ref, φ)`` of the plane, Kalker's planar kinematics, ξ_ref - φ s at the point and the
+    plane's φ)."""
     if not points:
         return None
     out = []
     for p in points:
         s = (p["y"] - region.y_ref) / np.cos(region.angle)
-        if planar_phi is None:
-            xi, phi = 1.0 - (1.0 - xi0) * p["radius"] / r0, -np.sin(p["angle"]) / p["radius"]
+        if planar is None:
+            xi, phi = kinematics(xi0, r0, p["radius"], 0.0, p["angle"])
         else:
-            xi, phi = xi0 - planar_phi * s, planar_phi
+            xi, phi = planar[0] - planar[1] * s, planar[1]
         f = fastsim(p["a"], p["b"], p["N"], xi, eta, phi, MU, G, NU)
         out.append((p, f, s))
     N = sum(p["N"] for p, _, _ in out)
@@ -151,7 +179,6 @@ def solve_shift(y, tables, step, cases):
             continue
         yw = region.wheel_y(res.s)
         radius = r_nom + wheel.wheel(yw)
-        phi = -np.sin(region.angle) / (r_nom + float(wheel.wheel(region.y_ref)))
         on = res.contact
         jj = np.flatnonzero(on.any(0))
         b = 0.5 * (res.s[jj[-1]] - res.s[jj[0]] + (res.s[1] - res.s[0]))
@@ -159,23 +186,27 @@ def solve_shift(y, tables, step, cases):
         members = {m: [p for p in _points(tables, m, y) if _region_of(regions, p["y"]) == k] for m in tables}
         semi = _semi_strips(region, wheel, tables, y, [p["k"] for p in members["semi-hertzian"]])
         for label, (xi0, eta, planar) in cases.items():
-            xi = xi0 - phi * res.s if planar else 1.0 - (1.0 - xi0) * radius / r0
+            xi, phi = kinematics(xi0, r0, radius, res.s, region.angle)
+            if planar:  # ξ uniform in the plane (the plane's own ξ at s = 0), the spin as above
+                xi = np.full_like(xi, float(kinematics(xi0, r0, r_nom + float(wheel.wheel(region.y_ref)), 0.0,
+                                                       region.angle)[0]))
             start = time.perf_counter()
             ex = rolling_contact(res.x, res.s, res.pressure, xi, eta, phi, MU, G, NU)
             seconds = time.perf_counter() - start
             # the exact power: the rigid slip work (the local sum converges to it from below, the
             # work from above, both at first order; at 0.2 mm the work is the nearer, +1.3 %
-            # against -4.4 % at y = 0, see the convergence table)
+            # against -4.5 % at y = 0, see the convergence table)
             paths = {"exact": dict(_totals(res.x, res.s, res.pressure, ex.px, ex.py, ex.power_global),
                                    slip=ex.slip_fraction, P_local=ex.power_local)}
             for m in ("hertz", "multi-hertz", "semi-hertzian"):
-                paths[m] = _ellipse_paths(members[m], region, xi0, r0, eta, phi if planar else None)
+                paths[m] = _ellipse_paths(members[m], region, xi0, r0, eta, (xi[0], phi) if planar else None)
             g = strip_fastsim_grid(res.x, res.s, res.pressure, xi, eta, phi, MU, G, NU, a, b)
             paths["strip elastic"] = dict(_totals(res.x, res.s, res.pressure, g.px, g.py, g.power_local),
                                           slip=float((g.slip & on).sum() / on.sum()))
             paths["strip semi-hertzian"] = _strip_paths(region, semi, xi, eta, phi) if semi else None
             rows.append(dict(y=y, region=k, angle=region.angle, case=label, paths=paths, exact=ex, seconds=seconds,
-                             elements=int(on.sum()), region_obj=region, wheel_y=yw, xi=xi, phi=phi,
+                             elements=int(on.sum()), region_obj=region, wheel_y=yw, xi=xi, phi=phi, radius=radius,
+                             xi0=xi0, r0=r0, planar=planar,
                              share=res.normal_force * np.cos(region.angle) / wheel.load))
     return rows
 
