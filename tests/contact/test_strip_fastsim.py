@@ -78,9 +78,9 @@ def test_two_lobe_patch_against_exact_rolling_contact():
     """A two-lobe patch (semi-elliptic pressure along each strip, 60 kN), the longitudinal creepage
     of each strip from its own radius on a 0.2-conicity tread (ξ_j = ξ0 - 0.2 s / 0.46 m), small
     spin: strip-wise FASTSIM against rolling_contact on the same pressure (0.25 mm elements; the
-    exact power the rigid slip work). Measured: |F| +4.7 %, power -10 % (the docs' S1002/UIC60
-    comparison: +4 % and 0 % at y = 0, -14 % power at the flange root); FASTSIM on the
-    equivalent ellipse with the centroid's ξ: |F| +25 %, power -35 %."""
+    exact power the rigid slip work). Measured: |F| +4.7 %, power -10 %; FASTSIM on the
+    equivalent ellipse with the centroid's ξ: |F| +25 %, power -35 %. A solver check with these
+    kinematics, not a wheel's (docs/contact.md gives the S1002/UIC60 comparison)."""
     h = 0.25e-3
     s, L = _two_lobes(h)
     x = (np.arange(-24, 24) + 0.5) * h
