@@ -140,7 +140,9 @@ TW_N_POINTS = 12
 TW_OUTSIDE_STIFFNESS = 13  # lateral spring beyond the table's range [N/m]
 TW_N_CONTACTS = 14  # contacts per wheel evaluated one by one (0: the per-wheel resultant only)
 TW_STRIPS = 15  # strips per contact for strip-wise FASTSIM (creep_law "strip-fastsim"); 0: Kalker + cubic law
-TW_N_PARAMS = 16
+TW_WHEEL_Y0_LEFT = 16  # contact position on the left wheel's profile at y = 0: each contact's lever arm is
+TW_WHEEL_Y0_RIGHT = 17  # TW_HALF_GAUGE + (its position on the profile - this), per wheel (TW_N_CONTACTS > 0)
+TW_N_PARAMS = 18
 TW_N_STRIP_HEAD = 5  # per contact in surf after the point block: L1, L2, L3, sqrt(a b), strip width; then
 TW_N_STRIP_FIELDS = 3  # per strip: lateral position in the contact plane (Kalker's y), half-length, rolling radius
 TW_N_FIELDS = 8  # per side in surf: rolling radius, contact angle, normal force, f11, f22, f23, f33,
@@ -390,35 +392,42 @@ def _point_column(surf, n, j, w, side, contacts, point, field):
 
 
 @njit(cache=True, inline="always")
-def _table_point(side, point, yaw, vlat, vyaw, p, o, surf, n, j, w, contacts, ratio, r_wheel, radii):
+def _table_point(side, point, yaw, vlat, vyaw, p, o, surf, n, j, w, contacts, ratio, r_wheel, radii, strip_power):
     """Creep of contact ``point`` of wheel ``side`` on its own: ``(xi, eta, phi, Fx, Feta, Mz,
-    power, N, delta, position)``, ``N <= 0`` for a contact not loaded here (then the rest is not
-    computed). The axle spins at ``2 V / radii`` (``radii = r_L + r_R`` of the wheels'
-    resultants, ``ratio`` as in ``_table_wheel``), so the contact of rolling radius ``r`` has
-    ``xi = (V - 2 V r / radii) / V -+ e psi'/V``, written as the wheel's ``-+ratio`` less
+    power, N, delta, position, lever)``, ``N <= 0`` for a contact not loaded here (then the rest is
+    not computed). ``lever`` is the contact's own lateral distance from the wheelset's centre,
+    ``e + (position - position at y = 0)`` (``e = TW_HALF_GAUGE``, the positions on the wheel
+    profile, the reference ``TW_WHEEL_Y0_*`` the wheel's contact at ``y = 0``; the profile
+    coordinate is fixed to the wheelset, positive towards the field side). The axle spins at
+    ``2 V / radii`` (``radii = r_L + r_R`` of the wheels' resultants, ``ratio`` as in
+    ``_table_wheel``), so the contact of rolling radius ``r`` has
+    ``xi = (V - 2 V r / radii) / V -+ lever psi'/V``, written as the wheel's ``-+ratio`` less
     ``2 (r - r_wheel) / radii`` (``r_wheel`` the wheel's resultant radius: exactly the wheel's
     creepage for ``r = r_wheel``); ``eta = (y'/V - psi) / cos(delta)``,
     ``phi = psi' cos(delta) / V -+ sin(delta) / r`` with the contact's own angle and radius, its
-    own Kalker coefficients and the cubic saturation at its own ``mu N``."""
+    own Kalker coefficients and the cubic saturation at its own ``mu N``. ``strip_power``: ``None``,
+    or an array that receives each strip's frictional power [W] under strip-wise FASTSIM (zeros
+    for a contact without load)."""
     normal = _point_column(surf, n, j, w, side, contacts, point, 2)
     if not normal > 0.0:
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     v = p[o + TW_SPEED]
     sign = 1.0 - 2.0 * side
     radius = _point_column(surf, n, j, w, side, contacts, point, 0)
     delta = _point_column(surf, n, j, w, side, contacts, point, 1)
+    position = _point_column(surf, n, j, w, side, contacts, point, 7)
+    lever = p[o + TW_HALF_GAUGE] + (position - p[o + TW_WHEEL_Y0_LEFT + side])
     scale = p[o + TW_CREEP_SCALE]
     cosd = math.cos(delta)
     sind = math.sin(delta)
-    xi = sign * (ratio - p[o + TW_HALF_GAUGE] * vyaw / v) - 2.0 * (radius - r_wheel) / radii
+    xi = sign * (ratio - lever * vyaw / v) - 2.0 * (radius - r_wheel) / radii
     eta = (vlat / v - yaw) / cosd
     phi = vyaw * cosd / v - sign * sind / radius
     strips = int(p[o + TW_STRIPS])
     if strips > 0:
         fx, fy, mz, power = _strip_point(side, point, xi, eta, phi, -sign * sind / radius, radius, r_wheel, radii,
-                                         normal, p, o, surf, n, j, w, contacts, strips)
-        return (xi, eta, phi, fx, fy, mz, v * power, normal, delta,
-                _point_column(surf, n, j, w, side, contacts, point, 7))
+                                         normal, p, o, surf, n, j, w, contacts, strips, v, strip_power)
+        return xi, eta, phi, fx, fy, mz, v * power, normal, delta, position, lever
     f23 = scale * _point_column(surf, n, j, w, side, contacts, point, 5)
     fx = -scale * _point_column(surf, n, j, w, side, contacts, point, 3) * xi
     fy = -scale * _point_column(surf, n, j, w, side, contacts, point, 4) * eta - f23 * phi
@@ -427,13 +436,12 @@ def _table_point(side, point, yaw, vlat, vyaw, p, o, surf, n, j, w, contacts, ra
     fx *= s
     fy *= s
     mz *= s
-    return (xi, eta, phi, fx, fy, mz, -v * (fx * xi + fy * eta + mz * phi), normal, delta,
-            _point_column(surf, n, j, w, side, contacts, point, 7))
+    return xi, eta, phi, fx, fy, mz, -v * (fx * xi + fy * eta + mz * phi), normal, delta, position, lever
 
 
 @njit(cache=True)
 def _strip_point(side, point, xi, eta, phi, spin_geo, radius, r_wheel, radii, normal, p, o, surf, n, j, w, contacts,
-                 strips):
+                 strips, speed, strip_power):
     """Strip-wise FASTSIM of one contact (``railwear.contact.strip_fastsim``, semi-elliptic pressure
     carrying ``normal``, flexibilities of the patch's equivalent ellipse): ``(Fx, Feta, Mz, power
     per unit speed)``, Mz about the contact's load centroid. Strip ``k`` has the longitudinal
@@ -443,7 +451,11 @@ def _strip_point(side, point, xi, eta, phi, spin_geo, radius, r_wheel, radii, no
     tangent plane, ``spin_geo`` = ``-+ sin(delta) / r``), so that part is taken out of the strip's
     creepage (``+ spin_geo y_k``) and left to FASTSIM's spin term: on a cone the strips then have
     the contact's ``xi`` and FASTSIM's kinematics, on a curved profile the remainder of the
-    radius change."""
+    radius change. ``strip_power`` (``None`` or an array over the strips) receives each strip's
+    frictional power times ``speed`` [W], the terms of the returned power's sum."""
+    if strip_power is not None:
+        for k in range(strips):
+            strip_power[k] = 0.0
     stride = TW_N_STRIP_HEAD + TW_N_STRIP_FIELDS * strips
     base = (2 + 2 * contacts) * TW_N_FIELDS * n + (side * contacts + point) * stride * n
     scale = p[o + TW_CREEP_SCALE]
@@ -481,6 +493,8 @@ def _strip_point(side, point, xi, eta, phi, spin_geo, radius, r_wheel, radii, no
         fy += sy * width
         mz += sm * width
         power += sp * width
+        if strip_power is not None:
+            strip_power[k] = speed * (sp * width)
     return fx, fy, mz, power
 
 
@@ -520,14 +534,15 @@ def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
             power = 0.0
             r_wheel = _table_value(surf, p, o, side, 0, lat)
             for point in range(contacts):
-                _, _, _, fx, fy, mz, pw, normal, delta, _ = _table_point(side, point, yaw, vlat, vyaw, p, o, surf, n,
-                                                                         j, w, contacts, ratio, r_wheel, radii)
+                _, _, _, fx, fy, mz, pw, normal, delta, _, lever = _table_point(side, point, yaw, vlat, vyaw, p, o,
+                                                                                surf, n, j, w, contacts, ratio,
+                                                                                r_wheel, radii, None)
                 if not normal > 0.0:
                     continue
                 cosd = math.cos(delta)
                 normal_lateral -= sign * normal * math.sin(delta)
                 force += fy * cosd
-                moment += mz * cosd - sign * p[o + TW_HALF_GAUGE] * fx
+                moment += mz * cosd - sign * lever * fx
                 power += pw
         if side == 0:
             power_left = power
@@ -575,7 +590,8 @@ def table_wheelset_outputs(t, y, p, surf, out):
             for k in range(3, 7):
                 out[8 * side + k] = 0.0
             for point in range(contacts):
-                pv = _table_point(side, point, y[1], y[2], y[3], p, 0, surf, n, j, w, contacts, ratio, r_wheel, radii)
+                pv = _table_point(side, point, y[1], y[2], y[3], p, 0, surf, n, j, w, contacts, ratio, r_wheel, radii,
+                                  None)
                 if pv[7] > 0.0:
                     for k in range(3, 7):
                         out[8 * side + k] += pv[k]
@@ -586,13 +602,15 @@ def table_wheelset_outputs(t, y, p, surf, out):
 
 
 @njit(cache=True)
-def table_point_rows(ys, p, o, surf, columns):
+def table_point_rows(ys, p, o, surf, columns, strip_power=None):
     """Each contact's own quantities at every state of ``ys`` (time, state): the wheelset's
     lateral displacement, yaw, lateral velocity and yaw rate are ``ys[:, columns[0..3]]``, its
     parameters the ``TW_*`` at offset ``o``. Row ``i``, column ``((side * P + point) * 9 + k)``
     (``P = TW_N_CONTACTS``): ``xi, eta, phi, Fx, Feta, Mz, power, N, position`` of ``_table_point``
     (zeros where the contact carries no load). Their ``Fx ... power`` sum to
-    ``table_wheelset_outputs``' per-wheel values."""
+    ``table_wheelset_outputs``' per-wheel values. Under strip-wise FASTSIM ``strip_power``, an
+    array ``(time, 2 P, TW_STRIPS)``, receives each strip's frictional power [W] (they sum to the
+    contact's ``power``)."""
     contacts = int(p[o + TW_N_CONTACTS])
     res = np.zeros((ys.shape[0], 2 * contacts * TW_N_POINT_OUTPUTS))
     for i in range(ys.shape[0]):
@@ -602,8 +620,12 @@ def table_point_rows(ys, p, o, surf, columns):
         for side in range(2):
             r_wheel = _table_value(surf, p, o, side, 0, lat)
             for point in range(contacts):
-                pv = _table_point(side, point, ys[i, columns[1]], ys[i, columns[2]], ys[i, columns[3]], p, o, surf, n,
-                                  j, w, contacts, ratio, r_wheel, radii)
+                if strip_power is None:
+                    pv = _table_point(side, point, ys[i, columns[1]], ys[i, columns[2]], ys[i, columns[3]], p, o, surf,
+                                      n, j, w, contacts, ratio, r_wheel, radii, None)
+                else:
+                    pv = _table_point(side, point, ys[i, columns[1]], ys[i, columns[2]], ys[i, columns[3]], p, o, surf,
+                                      n, j, w, contacts, ratio, r_wheel, radii, strip_power[i, side * contacts + point])
                 if pv[7] > 0.0:
                     base = (side * contacts + point) * TW_N_POINT_OUTPUTS
                     for k in range(TW_N_POINT_OUTPUTS):

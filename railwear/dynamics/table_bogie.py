@@ -11,7 +11,8 @@ from railwear.dynamics import kernels as k
 from railwear.dynamics._fields import number, pack
 from railwear.dynamics.bogie import BogieFrame, BogieModel
 from railwear.dynamics.linear import numerical_state_matrix
-from railwear.dynamics.table_wheelset import creep_law_strips, point_dataset, table_geometry, table_params
+from railwear.dynamics.table_wheelset import (creep_law_strips, point_dataset, strip_power_array, table_geometry,
+                                             table_params)
 from railwear.errors import ScenarioError
 
 __all__ = ["TableBogieModel"]
@@ -70,14 +71,17 @@ class TableBogieModel(BogieFrame):
 
     def point_outputs(self, ds):
         """Each contact's own quantities (``TableWheelsetModel.point_outputs``) over
-        ``(time, wheelset, wheel, point)`` at the states of ``simulate``'s result ``ds``."""
+        ``(time, wheelset, wheel, point)`` at the states of ``simulate``'s result ``ds`` (and each
+        strip's power over ``... + (strip,)`` under strip-wise FASTSIM)."""
         p, surf = self.params(), self.surface()
         states = np.column_stack([ds[v].values for v in ("lateral_displacement", "yaw_angle", "lateral_velocity",
                                                            "yaw_rate")])  # (time, 8): per variable front, rear
-        rows = np.stack([k.table_point_rows(states, p, k.BG_N_PARAMS, surf, np.array([i, 2 + i, 4 + i, 6 + i]))
-                         for i in range(2)], 1)
+        strips = [strip_power_array(self, states.shape[0]) for _ in range(2)]
+        rows = np.stack([k.table_point_rows(states, p, k.BG_N_PARAMS, surf, np.array([i, 2 + i, 4 + i, 6 + i]),
+                                            strips[i]) for i in range(2)], 1)
         return point_dataset(rows.reshape(rows.shape[0], 2, 2, self.contacts, k.TW_N_POINT_OUTPUTS),
-                             ("time", "wheelset"), {"time": ds.time, "wheelset": ds.wheelset})
+                             ("time", "wheelset"), {"time": ds.time, "wheelset": ds.wheelset},
+                             None if strips[0] is None else np.stack(strips, 1))
 
     def state_matrix(self, speed=None) -> np.ndarray:
         """Linearisation about centred running (saturation off), by central differences."""

@@ -95,11 +95,15 @@ class TableWheelsetModel:
         (``POINT_OUTPUTS``, over ``(time, wheel, point)``, ``point`` the contact as tracked across
         the table's shifts, ``point_tracks``) at the states of ``simulate``'s result ``ds``, as
         the compiled right-hand side saw them; their forces and powers sum to the per-wheel
-        ones of ``ds``. Empty over ``point`` for a table of one contact per wheel."""
+        ones of ``ds``. Empty over ``point`` for a table of one contact per wheel. Under
+        ``creep_law="strip-fastsim"`` also ``point_strip_frictional_power`` over ``(time, wheel,
+        point, strip)``: each strip's own FASTSIM dissipation, summing to the contact's power."""
         states = np.column_stack([ds[v].values for v in ("lateral_displacement", "yaw_angle", "lateral_velocity",
                                                            "yaw_rate")])
-        rows = k.table_point_rows(states, self.params(), 0, self.surface(), np.arange(4))
-        return point_dataset(rows.reshape(-1, 2, self.contacts, k.TW_N_POINT_OUTPUTS), ("time",), {"time": ds.time})
+        strips = strip_power_array(self, states.shape[0])
+        rows = k.table_point_rows(states, self.params(), 0, self.surface(), np.arange(4), strips)
+        return point_dataset(rows.reshape(-1, 2, self.contacts, k.TW_N_POINT_OUTPUTS), ("time",), {"time": ds.time},
+                             strips)
 
     def surface(self) -> np.ndarray:
         return self._geometry[1]
@@ -136,21 +140,32 @@ def creep_law_strips(model):
 def table_params(model, speed, **derived):
     """The ``TW_*`` parameter array of a model on real profiles (its ``_geometry`` from
     ``table_arrays``); ``derived`` fills what the model's fields do not."""
-    y, _, e0, contacts = model._geometry[:4]
-    strips = model._geometry[4] if len(model._geometry) > 4 else 0
+    y, _, e0, contacts, strips, (left, right) = model._geometry
     return pack(model, "TW_", k.TW_N_PARAMS, speed, half_gauge=e0, y_min=y[0], dy=y[1] - y[0], n_points=y.size,
-                n_contacts=contacts, strips=strips, **derived)
+                n_contacts=contacts, strips=strips, wheel_y0_left=left, wheel_y0_right=right, **derived)
 
 
-def point_dataset(rows, dims, coords):
+def strip_power_array(model, n):
+    """``None``, or for strip-wise FASTSIM the zeroed array ``(n, 2 P, S)`` that
+    ``kernels.table_point_rows`` fills with each strip's frictional power."""
+    strips = model._geometry[4]
+    return np.zeros((n, 2 * model.contacts, strips)) if strips else None
+
+
+def point_dataset(rows, dims, coords, strip_power=None):
     """``table_point_rows``' values, shaped ``dims + (wheel, point, field)``, as an
     ``xarray.Dataset`` of ``POINT_OUTPUTS`` over ``dims + ("wheel", "point")`` (``coords`` those of
-    ``dims``)."""
+    ``dims``); with ``strip_power`` (``table_point_rows``' strip array, shaped ``dims + (2 P, S)``
+    or flat over ``dims``) also ``point_strip_frictional_power`` over ``... + ("strip",)``."""
     import xarray as xr
 
     names = tuple(dims) + ("wheel", "point")
     data = {name: (names, rows[..., i], {"units": unit, "long_name": long})
             for i, (name, unit, long) in enumerate(POINT_OUTPUTS)}
+    if strip_power is not None:
+        data["point_strip_frictional_power"] = (
+            names + ("strip",), strip_power.reshape(rows.shape[:-1] + strip_power.shape[-1:]),
+            {"units": "W", "long_name": "frictional power of each strip of the contact (strip-wise FASTSIM)"})
     coords = dict(coords, wheel=("wheel", ["left", "right"], {"long_name": "wheel of the wheelset"}),
                   point=("point", np.arange(rows.shape[-2]),
                          {"long_name": "contact of the wheel, tracked across the table's shifts (point_tracks)"}))
@@ -158,16 +173,21 @@ def point_dataset(rows, dims, coords):
 
 
 def table_geometry(table, spin=True, strips=False):
-    """What the compiled table models read: ``(y, surf, e0, P)``, ``table_arrays``' grid, kernel
-    array and half distance, the array followed, for a table with a ``point`` dimension
-    (``contact_model`` "multi-hertz", "semi-hertzian"), by the ``TW_N_FIELDS`` columns of each of
-    the ``P`` contacts per wheel that ``point_tracks`` follows across the shifts (left wheel's
-    first; a contact's geometry held at its nearest loaded shift where it carries no load, its
-    normal force and creep coefficients zero there). ``P = 0`` for a table without points: the
-    kernels then read the per-wheel resultant only."""
+    """What the compiled table models read: ``(y, surf, e0, P, S, (y0_left, y0_right))``,
+    ``table_arrays``' grid, kernel array and half distance, the array followed, for a table with a
+    ``point`` dimension (``contact_model`` "multi-hertz", "semi-hertzian"), by the ``TW_N_FIELDS``
+    columns of each of the ``P`` contacts per wheel that ``point_tracks`` follows across the shifts
+    (left wheel's first; a contact's geometry held at its nearest loaded shift where it carries no
+    load, its normal force and creep coefficients zero there), and with ``strips`` by the
+    ``strip_block`` of the ``S`` strips per contact (else ``S = 0``). ``P = 0`` for a table without
+    points: the kernels then read the per-wheel resultant only. ``y0_left``, ``y0_right``: each
+    wheel's (resultant) contact position on its profile at ``y = 0`` (the shift nearest to it),
+    the reference of each contact's lever arm ``e0 + (point_wheel_y - y0)``."""
     y, surf, e0 = table_arrays(table, spin)
+    centre = table.sel(y=0.0, method="nearest")
+    y0 = tuple(float(centre["wheel_contact_y"].sel(side=side)) for side in ("left", "right"))
     if "point_normal_force" not in table.data_vars:
-        return y, surf, e0, 0
+        return y, surf, e0, 0, 0, y0
     missing = [name for name in POINT_FIELDS + ("point_b",) if name not in table.data_vars]
     if missing:
         raise ScenarioError(f"table: the contact table lacks {', '.join(missing)}")
@@ -186,9 +206,9 @@ def table_geometry(table, spin=True, strips=False):
         raise ScenarioError("table: a loaded contact lacks a finite rolling radius, angle, position or creep "
                             "coefficient")
     if not strips:
-        return y, np.concatenate([surf, block]), e0, contacts
+        return y, np.concatenate([surf, block]), e0, contacts, 0, y0
     return y, np.concatenate([surf, block, strip_block(table, tracks, contacts)]), e0, contacts, \
-        table.sizes["strip"]
+        table.sizes["strip"], y0
 
 
 def strip_block(table, tracks, contacts):

@@ -75,12 +75,34 @@ def assert_same(a, b):
         np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=name)
 
 
+def held_at_centre(h, point):
+    """``point`` with its position on the wheel profile held at the table's y = 0 value: its lever
+    arm is then the half gauge-point distance ``e`` at every shift."""
+    out = dict(point)
+    centre = int(np.flatnonzero(h.y.values == 0.0)[0])
+    out["wheel_y"] = np.broadcast_to(point["wheel_y"][centre], point["wheel_y"].shape).copy()
+    return out
+
+
 def test_hertz_table_with_an_unloaded_second_point_is_bit_identical(hertz):
-    """The hertz table (no points: the resultant path) against the same table with a point
-    dimension of the same contact and a second one without load (evaluated contact by contact):
-    the wheelset's and the bogie's runs (hunting, mu = 0.3), right-hand sides and state matrices
-    agree to the bit, and the one contact's power is the wheel's."""
-    points = with_points(hertz, [wheel_contact(hertz), unloaded(hertz)])
+    """The hertz table (no points: the resultant path, lever arm e) against the same table with a
+    point dimension of the same contact and a second one without load (evaluated contact by
+    contact, each on its own lever arm ``e + (position - position at y = 0)``), the contact's
+    position held at its y = 0 value so that its lever arm is e: the wheelset's and the bogie's runs
+    (hunting, mu = 0.3), right-hand sides and state matrices agree to the bit, and the one
+    contact's power is the wheel's. With the contact's own position, the right-hand side at
+    y = 0 is still the resultant's to the bit, and off centre the yaw moment differs by the lever
+    arm's change (test_two_contact_angles_against_a_hand_computation checks it)."""
+    moving = with_points(hertz, [wheel_contact(hertz), unloaded(hertz)])
+    model = TableWheelsetModel(speed=60.0, **SUSPENSION, table=moving)
+    resultant = TableWheelsetModel(speed=60.0, **SUSPENSION, table=hertz)
+    for y, same in (([0.0, 1e-3, 0.05, -0.1], True), ([3e-3, 1e-3, 0.05, -0.1], False)):
+        out = [np.empty(4), np.empty(4)]
+        for m, o in zip((resultant, model), out):
+            kernels.rhs(m.kind, 0.0, np.array(y), m.params(), m.surface(), o)
+        assert np.array_equal(out[0], out[1]) == same
+        assert np.array_equal(out[0][:3], out[1][:3])  # the lever arm moves the yaw moment only
+    points = with_points(hertz, [held_at_centre(hertz, wheel_contact(hertz)), unloaded(hertz)])
     plain = TableWheelsetModel(speed=60.0, **SUSPENSION, table=hertz, friction_coefficient=0.3,
                                initial_lateral_displacement=3e-3)
     each = TableWheelsetModel(speed=60.0, **SUSPENSION, table=points, friction_coefficient=0.3,
@@ -109,10 +131,10 @@ def test_hertz_table_with_an_unloaded_second_point_is_bit_identical(hertz):
 
 
 def test_two_points_of_one_geometry_are_the_resultant(hertz):
-    """One wheel contact split into two of the same angle and radius (60 / 40 % of its load and
-    creep coefficients): in the linear range (no saturation) the right-hand sides and the per-wheel
-    outputs are the resultant's to 1e-12."""
-    c = wheel_contact(hertz)
+    """One wheel contact split into two of the same angle, radius and position (60 / 40 % of its
+    load and creep coefficients; the position held at y = 0, lever arm e): in the linear range (no
+    saturation) the right-hand sides and the per-wheel outputs are the resultant's to 1e-12."""
+    c = held_at_centre(hertz, wheel_contact(hertz))
     split = with_points(hertz, [scaled(c, 0.6), scaled(c, 0.4)])
     plain = TableWheelsetModel(speed=50.0, **SUSPENSION, table=hertz)
     each = TableWheelsetModel(speed=50.0, **SUSPENSION, table=split)
@@ -145,7 +167,9 @@ def hand(table, lat, yaw, vlat, vyaw, speed, mu, e0):
     for side, sign in (("left", 1.0), ("right", -1.0)):
         r, g, n = at("point_rolling_radius", side), at("point_contact_angle", side), at("point_normal_force", side)
         f11, f22, f23, f33 = (at(f"point_{c}", side) for c in ("f11", "f22", "f23", "f33"))
-        xi = (speed - spin * r) / speed - sign * e0 * vyaw / speed
+        y0 = float(table.wheel_contact_y.sel(y=0.0, side=side))
+        lever = e0 + (at("point_wheel_y", side) - y0)  # the contact's own distance from the centre
+        xi = (speed - spin * r) / speed - sign * lever * vyaw / speed
         eta = (vlat / speed - yaw) / np.cos(g)
         phi = vyaw * np.cos(g) / speed - sign * np.sin(g) / r
         fx, fy, mz = -f11 * xi, -f22 * eta - f23 * phi, f23 * eta - f33 * phi
@@ -153,7 +177,7 @@ def hand(table, lat, yaw, vlat, vyaw, speed, mu, e0):
         factor = np.where(u < 3, 1 - u / 3 + u * u / 27, 1 / np.maximum(u, 3))
         fx, fy, mz = fx * factor, fy * factor, mz * factor
         force += np.sum(fy * np.cos(g) - sign * n * np.sin(g))
-        moment += np.sum(mz * np.cos(g) - sign * e0 * fx)
+        moment += np.sum(mz * np.cos(g) - sign * lever * fx)
         limits[side] = np.hypot(fx, fy), mu * n, u
     return force, moment, limits
 
@@ -162,7 +186,8 @@ def hand(table, lat, yaw, vlat, vyaw, speed, mu, e0):
 def test_two_contact_angles_against_a_hand_computation(hertz, mu):
     """A tread contact and a flange-like one (0.3 rad steeper, 4 mm larger radius, 30 % of the
     load): the wheelset's lateral force and yaw moment are the sums of each contact's own creep
-    forces and normal force, as computed by hand, to 1e-10, between table nodes and on both sides
+    forces (each on its own lever arm, e plus its offset on the wheel profile from the y = 0
+    contact) and normal force, as computed by hand, to 1e-10, between table nodes and on both sides
     of the tread's jump."""
     table = flange_pair(hertz)
     model = TableWheelsetModel(speed=45.0, **SUSPENSION, table=table, friction_coefficient=mu,
@@ -249,17 +274,18 @@ def test_contacts_are_followed_across_the_shifts(semi):
 
 
 def test_linear_critical_speed_on_the_semi_hertzian_table(semi):
-    """Each contact on its own against the resultant (the same table without its points, the
-    dynamics of before): the wheelset's linear critical speed moves from 66.15 to 68.51 m/s
-    (+3.6 %), the Cooperrider bogie's from 18.87 to 21.48 m/s (+14 %)."""
+    """Each contact on its own (its own lever arm) against the resultant (the same table without
+    its points, the dynamics of before): the wheelset's linear critical speed moves from 66.15 to
+    68.55 m/s (+3.6 %; 68.51 with the lever arm e for every contact), the Cooperrider bogie's from
+    18.87 to 21.49 m/s (+14 %; 21.48)."""
     before = critical_speed(TableWheelsetModel(speed=40.0, **SUSPENSION, table=resultant_only(semi)))
     after = critical_speed(TableWheelsetModel(speed=40.0, **SUSPENSION, table=semi))
     assert before == pytest.approx(66.154, abs=2e-3)
-    assert after == pytest.approx(68.505, abs=2e-3)
+    assert after == pytest.approx(68.548, abs=2e-3)
     before = critical_speed(TableBogieModel.cooperrider(20.0, resultant_only(semi)))
     after = critical_speed(TableBogieModel.cooperrider(20.0, semi))
     assert before == pytest.approx(18.867, abs=2e-3)
-    assert after == pytest.approx(21.477, abs=2e-3)
+    assert after == pytest.approx(21.491, abs=2e-3)
 
 
 def test_strip_fastsim_creep_law(semi, hertz):
@@ -267,7 +293,8 @@ def test_strip_fastsim_creep_law(semi, hertz):
     strip-wise FASTSIM (railwear.contact.strip_fastsim) on the table's strips at that shift, every
     strip's creepage from its own radius (the first-order part carried by the spin term); the
     cubic law's right-hand side stays as it was (asserted on the same model with creep_law
-    "cubic"); the linear critical speed 68.51 -> 78.39 m/s. Refused on a table without strips."""
+    "cubic"); the linear critical speed 68.55 -> 78.47 m/s (68.51 -> 78.39 with the lever arm e for
+    every contact). Refused on a table without strips."""
     from railwear.contact.strip_fastsim import strip_fastsim
     from railwear.errors import ScenarioError
 
@@ -302,7 +329,7 @@ def test_strip_fastsim_creep_law(semi, hertz):
                                 float(pt.point_a), float(pt.point_b))
             assert rows[w, c, 3:6] == pytest.approx([ref.Fx, ref.Fy, ref.Mz], rel=1e-9, abs=1e-9)
             assert rows[w, c, 6] == pytest.approx(40.0 * ref.power_local, rel=1e-9)
-    assert critical_speed(strip) == pytest.approx(78.394, abs=2e-3)
+    assert critical_speed(strip) == pytest.approx(78.475, abs=2e-3)
     with pytest.raises(ScenarioError, match="creep_law"):
         TableWheelsetModel(speed=40.0, **SUSPENSION, table=hertz, creep_law="strip-fastsim")
     with pytest.raises(ScenarioError, match="creep_law"):
