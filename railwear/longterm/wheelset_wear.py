@@ -19,9 +19,16 @@ sharing its load and the dynamics evaluate each on its own (its creepages, Kalke
 saturation, ``TableWheelsetModel.point_outputs``); each contact's own frictional power at each
 output is shared between the table's two shifts around the wheelset's (linear-interpolation
 weights, over the shifts where that contact carries load) and put down at its own
-``point_wheel_y`` under its own ellipse (``point_a``, ``point_b``; semi-hertzian: the patch's
-equivalent ellipse, half its width across), so the wear lands on the contacts, each by its own
-power, not on the resultant's position between them.
+``point_wheel_y`` under its own ellipse (``point_a``, ``point_b``, multi-hertz), so the wear lands
+on the contacts, each by its own power, not on the resultant's position between them. A
+semi-hertzian table carries each patch's strips (``point_strip_wheel_y``, ``point_strip_width``,
+``point_strip_half_length``): there each contact's volume is put down across its strips, each
+strip at its own position on the wheel profile (width ``point_strip_width cos(angle)`` there),
+along its own length, with its share of the contact's power: under ``creep_law="strip-fastsim"``
+the strip's own FASTSIM dissipation (``point_strip_frictional_power`` of ``point_outputs``), under
+the cubic law :func:`strip_weights` (the strip's full-slip dissipation with the contact's
+creepages and spin, semi-elliptic pressure; without spin its share of the load, which the strips
+of a Hertz ellipse turn into the ellipse's footprint).
 
 Feedback ("the contact geometry sees u"): after each long-term step the wheel profile is worn by
 the angle-averaged depth over ``s``, averaged over the two wheels (the contact table is built for
@@ -107,6 +114,64 @@ def sweep_deposit(surface, volume, angle0, angle1, lateral, a, b, footprint="her
         (x_lo * a[col] + start[col]).ravel(), (x_hi * a[col] + (start + travel)[col]).ravel(),
         (s_lo * b[col] + lateral[col]).ravel(), (s_hi * b[col] + lateral[col]).ravel(),
         (share * volume[col]).ravel())
+
+
+def strip_deposit(surface, volume, angle0, angle1, lateral, width, half_length, footprint="hertz", n=8):
+    """Remove ``volume`` (m³, one per strip and interval) under a strip of a patch: ``width`` (m)
+    across centred at ``lateral`` (m, on the wheel profile), ``2 half_length`` (m) along rolling,
+    swept from ``angle0`` to ``angle1`` (rad). The strip is cut into ``n`` equal pieces along its
+    length, weighted by the semi-elliptic pressure ``sqrt(1 - x²/L²)`` at their centres times their
+    length (``footprint`` "hertz": the strips of an ellipse then give ``ellipse_footprint``'s
+    pieces) or by their length ("uniform"); each piece is stretched along the circumference by the
+    distance turned. Returns the volume added (m³)."""
+    volume, angle0, angle1, lateral, width, half = (np.asarray(v, float) for v in np.broadcast_arrays(
+        volume, angle0, angle1, lateral, width, half_length))
+    if np.any(volume < 0) or not np.all(np.isfinite(volume)):
+        raise ScenarioError("wear volumes must be finite and >= 0")
+    t = np.linspace(-1.0, 1.0, n + 1)
+    lo, hi = t[:-1], t[1:]
+    weight = (hi - lo) * (np.sqrt(1.0 - (0.5 * (lo + hi)) ** 2) if footprint == "hertz" else 1.0)
+    share = weight / weight.sum()
+    start = np.mod(angle0, 2 * np.pi) * surface.radius
+    travel = (angle1 - angle0) * surface.radius
+    if np.any(travel < 0) or np.any(travel + 2 * half >= 0.5 * surface.circumference):
+        raise ScenarioError("the wheel must turn forwards by less than half a revolution per interval")
+    col = (slice(None), None)
+    return deposit_rectangles(
+        surface.depth, surface.circumference, surface.lateral_edges[0],
+        surface.lateral_edges[1] - surface.lateral_edges[0],
+        (lo * half[col] + start[col]).ravel(), (hi * half[col] + (start + travel)[col]).ravel(),
+        np.repeat(lateral - 0.5 * width, n), np.repeat(lateral + 0.5 * width, n), (share * volume[col]).ravel())
+
+
+_NODES = 5  # quadrature nodes along a strip for the cubic law's strip weights
+
+
+def strip_weights(half_length, y, xi, eta, phi, footprint="hertz"):
+    """The cubic law's share of a contact's frictional power per strip (normalised over the last
+    axis): the full-slip dissipation ``mu ∫ p |s| dx`` of the strip with the rigid slip of
+    Kalker's kinematics ``s = (xi - phi y, eta + phi x)`` (``y`` the strip's lateral position about
+    the contact's centroid in its plane, ``x`` along it), the pressure ``p`` semi-elliptic along
+    the strip (``footprint`` "hertz": the patch's normal solution) or uniform. Without spin it is
+    the strip's share of the load (of the area, uniform), which is also the share of the linear
+    (no-slip) power, ``xi Fx + eta Fy``, strip by strip. Where every slip is zero the load share."""
+    L = np.asarray(half_length, float)
+    i = np.arange(1, _NODES + 1)
+    if footprint == "hertz":  # Gauss-Chebyshev of the second kind: exact for sqrt(1 - t^2) times a quintic
+        t = np.cos(i * np.pi / (_NODES + 1))
+        q = np.pi / (_NODES + 1) * np.sin(i * np.pi / (_NODES + 1)) ** 2
+        scale = L ** 2
+    else:
+        t, q = np.polynomial.legendre.leggauss(_NODES)
+        scale = L
+    sx = (np.asarray(xi, float) - np.asarray(phi, float) * np.asarray(y, float))[..., None]
+    sy = np.asarray(eta, float)[..., None] + (np.asarray(phi, float) * L)[..., None] * t
+    weight = scale * np.sum(q * np.hypot(sx, sy), -1)
+    load = np.broadcast_to(scale, weight.shape)
+    total = weight.sum(-1, keepdims=True)
+    fallback = load.sum(-1, keepdims=True)
+    return np.where(total > 0, weight / np.where(total > 0, total, 1.0),
+                    np.divide(load, fallback, out=np.zeros_like(load), where=fallback > 0))
 
 
 @dataclass(frozen=True)
@@ -250,6 +315,12 @@ class WheelsetWear:
         angle = phase + np.concatenate([[0.0], np.cumsum(turned)])
         added = law = 0.0
         for surface, wheel in zip(surfaces, WHEELS):
+            if "point_strip_half_length" in table:  # semi-hertzian: each contact's power across its strips
+                interval, volume, position, width, half = self.point_volumes(ds, table, wheel, factor, strips=True)
+                added += strip_deposit(surface, volume, angle[interval], angle[interval + 1], position, width, half,
+                                       self.footprint)
+                law += float(volume.sum())
+                continue
             if "point_creep_share" in table:
                 interval, volume, position, a, b = self.point_volumes(ds, table, wheel, factor)
                 added += sweep_deposit(surface, volume, angle[interval], angle[interval + 1], position, a, b,
@@ -269,7 +340,7 @@ class WheelsetWear:
             law += float(volume.sum())
         return added, law, float(angle[-1])
 
-    def point_volumes(self, ds, table, wheel, factor=1.0):
+    def point_volumes(self, ds, table, wheel, factor=1.0, strips=False):
         """The wear of ``wheel`` over the run ``ds`` on a table of several contacts per wheel, per
         contact point: at every output each contact's own frictional power
         (``point_frictional_power`` of :meth:`run`, the contacts as
@@ -280,7 +351,14 @@ class WheelsetWear:
         sliding speed), and integrated over each output interval (trapezoidal). Returns, one per
         loaded point and interval end, the interval's index, the volume (m³, times ``factor``),
         the point's ``point_wheel_y`` and its ``point_a``, ``point_b`` (m), which :meth:`deposit`
-        puts down; their volumes sum to the law's of the summed point powers over the run."""
+        puts down; their volumes sum to the law's of the summed point powers over the run.
+
+        ``strips=True`` (semi-hertzian tables, which carry each patch's strips): each point's
+        volume is shared over the strips of its patch at the table's shift, by each strip's own
+        frictional power where the run has it (``point_strip_frictional_power``, strip-wise
+        FASTSIM), else by :func:`strip_weights` of the point's creepages; returned per strip:
+        interval, volume, the strip's ``point_strip_wheel_y``, its width on the wheel profile
+        (``point_strip_width cos(point_contact_angle)``) and ``point_strip_half_length`` (m)."""
         from railwear.dynamics.table_wheelset import point_tracks
 
         if "point_frictional_power" not in ds:
@@ -309,6 +387,8 @@ class WheelsetWear:
                 power, force, np.broadcast_to(v * slip[:, None, None], power.shape), np.full(power.shape, v),
                 np.where(force > 0, np.pi * a * b, 0.0)))
         rate = rate * share
+        if strips:
+            return self._strip_volumes(ds, table, wheel, factor, node, index, loaded, rows, rate)
         half = factor * 0.5 * np.diff(ds.time.values)[:, None, None]
         volume = np.stack([half * rate[:-1], half * rate[1:]], 1)  # (interval, end, 2, point)
         same = (node[1:, 0] == node[:-1, 0])[:, None, None]  # both ends between the same shifts: one deposit
@@ -319,6 +399,41 @@ class WheelsetWear:
         if not np.all(np.isfinite(y[keep])):
             raise ScenarioError(f"the contact table has wear on a point without a position ({wheel} wheel)")
         return interval[keep], volume[keep], y[keep], a[keep], b[keep]
+
+
+    def _strip_volumes(self, ds, table, wheel, factor, node, index, loaded, rows, rate):
+        """:meth:`point_volumes` across the strips (``rate`` its ``(time, node, point)`` volume rates)."""
+        side = table.sel(side=wheel)
+        at = np.maximum(index, 0)
+        half_length, lateral = (np.where(loaded[..., None], side[f"point_strip_{v}"].values[rows, at], 0.0)
+                                for v in ("half_length", "wheel_y"))
+        angle, centre, width = (np.where(loaded, side[f"point_{v}"].values[rows, at], 0.0)
+                                for v in ("contact_angle", "wheel_y", "strip_width"))
+        if "point_strip_frictional_power" in ds:  # each strip's own FASTSIM dissipation
+            # (time, 1, point, strip); a round-off below zero (1e-5 W beside 30 W seen) counts as none
+            power = np.maximum(ds.point_strip_frictional_power.sel(wheel=wheel).values[:, None], 0.0)
+            total = power.sum(-1, keepdims=True)
+            share = np.divide(power, total, out=np.zeros_like(power), where=total > 0)
+            share = np.broadcast_to(share, half_length.shape)
+        else:
+            sign = 1.0 if wheel == "left" else -1.0
+            y = sign * (lateral - centre[..., None]) / np.cos(angle)[..., None]
+            creep = [ds[f"point_{v}_creepage"].sel(wheel=wheel).values[:, None, :, None]
+                     for v in ("longitudinal", "lateral", "spin")]
+            share = strip_weights(half_length, y, *creep, footprint=self.footprint)
+        rate = rate[..., None] * share * loaded[..., None]
+        half = factor * 0.5 * np.diff(ds.time.values)[:, None, None, None]
+        volume = np.stack([half * rate[:-1], half * rate[1:]], 1)  # (interval, end, node, point, strip)
+        same = (node[1:, 0] == node[:-1, 0])[:, None, None, None]
+        volume = np.stack([volume[:, 0] + np.where(same, volume[:, 1], 0.0), np.where(same, 0.0, volume[:, 1])], 1)
+        interval = np.broadcast_to(np.arange(half.shape[0])[:, None, None, None, None], volume.shape)
+        lateral, half_length = (np.stack([v[:-1], v[1:]], 1) for v in (lateral, half_length))
+        across = (width * np.cos(angle))[..., None]
+        across = np.broadcast_to(np.stack([across[:-1], across[1:]], 1), volume.shape)
+        keep = volume != 0
+        if not np.all(np.isfinite(lateral[keep])):
+            raise ScenarioError(f"the contact table has wear on a strip without a position ({wheel} wheel)")
+        return interval[keep], volume[keep], lateral[keep], across[keep], half_length[keep]
 
 
 @dataclass(frozen=True)
@@ -492,7 +607,8 @@ class Wheelset(Body):
         return (self.seconds, self.samples, self.update_seconds, repr(model), p.wheel.y, p.wheel.z, p.rail.y,
                 p.rail.z, (p.wheel.cant, p.rail.cant), repr(p.law), p.life_distance, np.asarray(p.shifts),
                 np.asarray(p.lateral_edges), p.n_angle, p.transient, p.offsets, p.output_rate, p.footprint, p.radius) + (
-            () if p.contact_model == "hertz" else (p.contact_model,))  # hertz checkpoints of before stay valid
+            () if p.contact_model == "hertz" else (p.contact_model,)) + (  # hertz checkpoints of before stay valid
+            ("strips",) if p.contact_model == "semi-hertzian" else ())  # semi-hertzian wear goes across the strips
 
 
 def _brackets(y, shift):
