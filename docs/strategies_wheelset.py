@@ -393,7 +393,9 @@ def _why_contacts(every, reference, finest):
         + ", ".join(f"{spread[k]:.2f}" for k in l2)
         + ("): the contact model changes the worn profile more than the choice of strategy does. " if larger else "). ")
         + "(The dynamics evaluate each contact on its own, `docs/dynamics.md`: its creepages in its own "
-        "contact plane, its spin, its Kalker coefficients and its saturation at its own mu N.)",
+        "contact plane, its spin, its lever arm, its Kalker coefficients and its saturation at its own mu N; "
+        "on the semi-hertzian tables each contact wears across the strips of its patch, each strip by its "
+        "share of the contact's power, not under the equivalent ellipse.)",
         f"- **Several contacts per wheel: convergence and cost.** Differences from each model's own reference "
         f"at {SPEEDS[fast]:g} m/s for step limits {', '.join(s.split(', ')[1] for s in steps)}: "
         f"{differences(fast, steps)}; for {', '.join(d.split(', ')[1] for d in directs)}: "
