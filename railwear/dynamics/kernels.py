@@ -326,9 +326,9 @@ def wheelset_outputs(t, y, p, surf, out):
 # The table helpers read the TW_* parameters at offset ``o`` in ``p`` (0 for the table wheelset,
 # BG_N_PARAMS for the table bogie, whose wheelsets share one table).
 @njit(cache=True, inline="always")
-def _table_value(surf, p, o, side, field, lateral):
-    """Linear interpolation of table column ``field`` of wheel ``side`` (0 left, 1 right) at the
-    lateral displacement ``lateral``, clamped to the table's range."""
+def _table_node(p, o, lateral):
+    """``(n, j, w)``: the table's points, the node below ``lateral`` and the weight of the node above
+    (clamped to the table's range)."""
     n = int(p[o + TW_N_POINTS])
     pos = (lateral - p[o + TW_Y_MIN]) / p[o + TW_DY]
     if pos <= 0.0:
@@ -336,7 +336,14 @@ def _table_value(surf, p, o, side, field, lateral):
     elif pos >= n - 1:
         pos = n - 1.0
     j = min(int(pos), n - 2)
-    w = pos - j
+    return n, j, pos - j
+
+
+@njit(cache=True, inline="always")
+def _table_value(surf, p, o, side, field, lateral):
+    """Linear interpolation of table column ``field`` of wheel ``side`` (0 left, 1 right) at the
+    lateral displacement ``lateral``, clamped to the table's range."""
+    n, j, w = _table_node(p, o, lateral)
     base = (side * TW_N_FIELDS + field) * n
     return (1.0 - w) * surf[base + j] + w * surf[base + j + 1]
 
@@ -367,20 +374,6 @@ def _table_wheel(side, lat, yaw, vlat, vyaw, p, o, surf, ratio):
     fy *= s
     mz *= s
     return xi, eta, phi, fx, fy, mz, -v * (fx * xi + fy * eta + mz * phi), normal, delta
-
-
-@njit(cache=True, inline="always")
-def _table_node(p, o, lateral):
-    """``(n, j, w)``: the table's points, the node below ``lateral`` and the weight of the node above
-    (clamped to the table's range, as ``_table_value``)."""
-    n = int(p[o + TW_N_POINTS])
-    pos = (lateral - p[o + TW_Y_MIN]) / p[o + TW_DY]
-    if pos <= 0.0:
-        pos = 0.0
-    elif pos >= n - 1:
-        pos = n - 1.0
-    j = min(int(pos), n - 2)
-    return n, j, pos - j
 
 
 @njit(cache=True, inline="always")
