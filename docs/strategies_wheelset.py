@@ -56,6 +56,20 @@ def worn_critical_speed(p, ds):
     return critical_speed(replace(p.model, table=p.table(ds.worn_depth.values[-1].mean(0))))
 
 
+def speed_text(v):
+    """A critical speed for the tables: 0 is a wheelset unstable about y = 0 at every speed."""
+    return "0 (unstable at every speed)" if v == 0.0 else f"{v:.1f}"
+
+
+def centre_jump(p, ds):
+    """Rolling-radius difference (m) at the table's first shift off y = 0 on the run's final profile."""
+    table = p.table(ds.worn_depth.values[-1].mean(0))
+    y = table.y.values
+    at = y[np.argmin(np.abs(y)) + 1]
+    row = table.sel(y=at)
+    return abs(float(row.rolling_radius.sel(side="left") - row.rolling_radius.sel(side="right"))), at
+
+
 def centre(p):
     """Hertz curvatures A, B (1/m) and lateral semi-axis b (m) of the new profiles at y = 0."""
     at = p.model.table.sel(y=0.0, side="right")
@@ -178,7 +192,7 @@ def wheelset_section(quick: bool) -> str:
             f"{mm(float(np.max(ref.lateral_amplitude[1:])))} | "
             f"{mm(lo0)} to {mm(hi0)} (range {mm(hi0 - lo0)}) | {mm(lo)} to {mm(hi)} (range {mm(hi - lo)}) | "
             f"{mm(band(first, 1))} | {mm(band(ref))} | {1e6 * float(ref.worn_depth.values[-1].max()):.1f} | "
-            f"{worn_critical_speed(p, ref):.1f} |")
+            f"{speed_text(worn_critical_speed(p, ref))} |")
     lines += ["", "The three contact models, same quantities (contact positions: every loaded contact of the "
               "tables at the shifts the runs visit), the linear critical speed on the new and on the worn "
               "profile, where the final depth lands (deepest point and centre of the removed volume on the "
@@ -197,7 +211,7 @@ def wheelset_section(quick: bool) -> str:
         lines.append(
             f"| {contact} | {speed:g} m/s | {mm(float(first.lateral_amplitude[1]))} / "
             f"{mm(float(np.max(ref.lateral_amplitude[1:])))} | {critical_speed(q.model):.1f} / "
-            f"{worn_critical_speed(q, ref):.1f} | {mm(lo0)} to {mm(hi0)} | {mm(lo)} to {mm(hi)} | "
+            f"{speed_text(worn_critical_speed(q, ref))} | {mm(lo0)} to {mm(hi0)} | {mm(lo)} to {mm(hi)} | "
             f"{mm(band(first, 1))} / {mm(band(ref))} | {1e6 * float(ref.worn_depth.values[-1].max()):.1f} | "
             f"{mm(deepest_at(ref))} / {mm(centroid(ref))} | {difference} | {int(ref.cost_tables)}, "
             f"{out[reference][1]:.1f} |")
@@ -381,7 +395,11 @@ def _why_contacts(every, reference, finest):
         f"of centred running ({SPEEDS[slow]:g} m/s, reference runs): " + "; ".join(worn(c, slow) for c in contacts)
         + ". From the start the wear goes into two grooves, under the main patch and under the second "
         "one, where the single point wears one band; the worn profile's linear critical speed falls to "
-        + each({c: vc_worn[c, slow] for c in contacts}, " m/s", lambda v: f"{v:.1f}")
+        + each({c: vc_worn[c, slow] for c in contacts}, " m/s", lambda v: f"{v:.1f}" if v else "0")
+        + "".join(f" ({c}: its kinematic mode grows about y = 0 at every speed; on the worn profile the "
+                  f"rolling-radius difference is already {mm(jump)} mm at the table's first shift, "
+                  f"{mm(at)} mm: the contact jumps as the wheelset leaves the centre, as under Feedback above)"
+                  for c in contacts if vc_worn[c, slow] == 0.0 for jump, at in [centre_jump(every[c, slow][2], ref(c, slow))])
         + ", and over the run the wheelset " + ", ".join(f"{motion(amplitude[c, slow])} on {c}" for c in contacts)
         + f". Hunting speed ({SPEEDS[fast]:g} m/s, starts of 1-3 mm): the largest lateral displacement after the "
         f"first transients is {hunting}."
