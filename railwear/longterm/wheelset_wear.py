@@ -100,20 +100,28 @@ def sweep_deposit(surface, volume, angle0, angle1, lateral, a, b, footprint="her
     circumference by the distance turned. Returns the volume added (m³)."""
     volume, angle0, angle1, lateral, a, b = (np.asarray(v, float) for v in
                                              np.broadcast_arrays(volume, angle0, angle1, lateral, a, b))
+    x_lo, x_hi, s_lo, s_hi, share = ellipse_footprint(1.0, 1.0, n, footprint)
+    col = (slice(None), None)
+    return _swept(surface, volume, angle0, angle1, a, x_lo, x_hi, (s_lo * b[col] + lateral[col]).ravel(),
+                  (s_hi * b[col] + lateral[col]).ravel(), share)
+
+
+def _swept(surface, volume, angle0, angle1, reach, x_lo, x_hi, s_lo, s_hi, share):
+    """Deposit ``share`` of each interval's ``volume`` on the pieces ``[x_lo, x_hi] reach`` along
+    rolling (stretched by the distance turned from ``angle0`` to ``angle1``) by ``[s_lo, s_hi]``
+    across (m, one row per interval and piece)."""
     if np.any(volume < 0) or not np.all(np.isfinite(volume)):
         raise ScenarioError("wear volumes must be finite and >= 0")
-    x_lo, x_hi, s_lo, s_hi, share = ellipse_footprint(1.0, 1.0, n, footprint)
     start = np.mod(angle0, 2 * np.pi) * surface.radius
     travel = (angle1 - angle0) * surface.radius
-    if np.any(travel < 0) or np.any(travel + 2 * a >= 0.5 * surface.circumference):
+    if np.any(travel < 0) or np.any(travel + 2 * reach >= 0.5 * surface.circumference):
         raise ScenarioError("the wheel must turn forwards by less than half a revolution per interval")
     col = (slice(None), None)
     return deposit_rectangles(
         surface.depth, surface.circumference, surface.lateral_edges[0],
         surface.lateral_edges[1] - surface.lateral_edges[0],
-        (x_lo * a[col] + start[col]).ravel(), (x_hi * a[col] + (start + travel)[col]).ravel(),
-        (s_lo * b[col] + lateral[col]).ravel(), (s_hi * b[col] + lateral[col]).ravel(),
-        (share * volume[col]).ravel())
+        (x_lo * reach[col] + start[col]).ravel(), (x_hi * reach[col] + (start + travel)[col]).ravel(),
+        s_lo, s_hi, (share * volume[col]).ravel())
 
 
 def strip_deposit(surface, volume, angle0, angle1, lateral, width, half_length, footprint="hertz", n=8):
@@ -126,22 +134,11 @@ def strip_deposit(surface, volume, angle0, angle1, lateral, width, half_length, 
     distance turned. Returns the volume added (m³)."""
     volume, angle0, angle1, lateral, width, half = (np.asarray(v, float) for v in np.broadcast_arrays(
         volume, angle0, angle1, lateral, width, half_length))
-    if np.any(volume < 0) or not np.all(np.isfinite(volume)):
-        raise ScenarioError("wear volumes must be finite and >= 0")
     t = np.linspace(-1.0, 1.0, n + 1)
     lo, hi = t[:-1], t[1:]
     weight = (hi - lo) * (np.sqrt(1.0 - (0.5 * (lo + hi)) ** 2) if footprint == "hertz" else 1.0)
-    share = weight / weight.sum()
-    start = np.mod(angle0, 2 * np.pi) * surface.radius
-    travel = (angle1 - angle0) * surface.radius
-    if np.any(travel < 0) or np.any(travel + 2 * half >= 0.5 * surface.circumference):
-        raise ScenarioError("the wheel must turn forwards by less than half a revolution per interval")
-    col = (slice(None), None)
-    return deposit_rectangles(
-        surface.depth, surface.circumference, surface.lateral_edges[0],
-        surface.lateral_edges[1] - surface.lateral_edges[0],
-        (lo * half[col] + start[col]).ravel(), (hi * half[col] + (start + travel)[col]).ravel(),
-        np.repeat(lateral - 0.5 * width, n), np.repeat(lateral + 0.5 * width, n), (share * volume[col]).ravel())
+    return _swept(surface, volume, angle0, angle1, half, lo, hi, np.repeat(lateral - 0.5 * width, n),
+                  np.repeat(lateral + 0.5 * width, n), weight / weight.sum())
 
 
 _NODES = 5  # quadrature nodes along a strip for the cubic law's strip weights
