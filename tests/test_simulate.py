@@ -57,3 +57,22 @@ def test_bad_dynamics_scenario(tmp_path):
     r = CliRunner().invoke(app, ["simulate", str(path), "-o", str(tmp_path / "o")])
     assert r.exit_code == 2 and "mas" in r.output and len(r.output.strip().splitlines()) == 1
     assert not (tmp_path / "o" / "dynamics.nc").exists()
+
+
+def test_profiles_choose_the_contact_model_and_the_creep_law(tmp_path):
+    """``model.profiles.contact_model`` builds the table of that model; with it a profile scenario
+    can run ``creep_law = "strip-fastsim"`` (its critical speed is the table model's, 78.475 m/s in
+    tests/dynamics/test_table_multipoint.py); a wrong model name is one line, exit 2."""
+    from railwear.dynamics import critical_speed
+
+    text = dynamics._builtin_dir().joinpath("hunting-profiles.toml").read_text()
+    text = text.replace('rail = "UIC60" }', 'rail = "UIC60", contact_model = "semi-hertzian" }')
+    text = text.replace("friction_coefficient = 0.3", 'friction_coefficient = 0.3\ncreep_law = "strip-fastsim"')
+    path = tmp_path / "semi.toml"
+    path.write_text(text)
+    model = dynamics.build(dynamics.load_dynamics_scenario(path), 60.0)
+    assert "point" in model.table.dims and model.creep_law == "strip-fastsim"
+    assert critical_speed(model) == pytest.approx(78.475, abs=2e-3)
+    path.write_text(text.replace('"semi-hertzian"', '"semi"'))
+    r = CliRunner().invoke(app, ["simulate", str(path), "-o", str(tmp_path / "o")])
+    assert r.exit_code == 2 and "contact_model" in r.output and len(r.output.strip().splitlines()) == 1

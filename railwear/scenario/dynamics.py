@@ -129,13 +129,14 @@ _BOGIE = ("wheelset_mass_kg", "wheelset_yaw_inertia_kg_m2", "frame_mass_kg", "fr
 MODEL_FIELDS = {
     ("wheelset", False): _WHEELSET_SUSPENSION + _CONICAL + ("f23_N_m", "f33_N_m2", "spin_inertia_kg_m2",
                                                             "initial_spin_deviation_rad_s"),
-    ("wheelset", True): _WHEELSET_SUSPENSION + ("creep_scale", "outside_stiffness_N_m"),
+    ("wheelset", True): _WHEELSET_SUSPENSION + ("creep_scale", "outside_stiffness_N_m", "creep_law"),
     ("cooperrider", False): _BOGIE + _CONICAL + (
         "frame_roll_inertia_kg_m2", "primary_longitudinal_stiffness_N_m", "primary_vertical_stiffness_N_m",
         "secondary_vertical_stiffness_N_m", "secondary_vertical_damping_N_s_m", "primary_spring_half_spacing_m",
         "secondary_spring_half_spacing_m", "primary_height_m", "secondary_height_m"),
     ("cooperrider", True): _BOGIE + ("primary_yaw_stiffness_N_m_rad", "secondary_yaw_stiffness_N_m_rad",
-                                     "secondary_yaw_damping_N_m_s_rad", "creep_scale", "outside_stiffness_N_m"),
+                                     "secondary_yaw_damping_N_m_s_rad", "creep_scale", "outside_stiffness_N_m",
+                                     "creep_law"),
     ("disk_wheel", False): (
         "radius_m", "wheel_mass_kg", "wheel_inertia_kg_m2", "static_load_kN", "hertz_constant_N_m1_5",
         "primary_stiffness_N_m", "primary_damping_N_s_m", "f11_MN", "sprung_mass_kg", "rail_mass_kg",
@@ -199,6 +200,7 @@ class Profiles(BaseModel):
 
     wheel: PathText = "S1002"
     rail: PathText = "UIC60"
+    contact_model: Literal["hertz", "multi-hertz", "semi-hertzian"] = "hertz"  # docs/contact.md
 
 
 class ModelSection(BaseModel):
@@ -256,14 +258,14 @@ def load_dynamics_scenario(path_or_name):
 
 
 @functools.lru_cache(maxsize=4)
-def _contact_table(wheel, rail):
+def _contact_table(wheel, rail, contact_model="hertz"):
     from railwear.geometry import contact_table, load_profile
 
     try:
         wheel, rail = load_profile(wheel), load_profile(rail)
     except ScenarioError as e:
         raise ScenarioError(f"model.profiles: {e}") from None
-    return contact_table(wheel, rail)
+    return contact_table(wheel, rail, contact_model=contact_model)
 
 
 def _on_profiles(scenario, speed, fields):
@@ -275,7 +277,8 @@ def _on_profiles(scenario, speed, fields):
     kind = scenario.model.kind
     if kind == "disk_wheel":
         raise ScenarioError("model.profiles: only the wheelset and the cooperrider bogie run on real profiles")
-    table = _contact_table(scenario.model.profiles.wheel, scenario.model.profiles.rail)
+    profiles = scenario.model.profiles
+    table = _contact_table(profiles.wheel, profiles.rail, profiles.contact_model)
     if kind == "wheelset":
         return build_model("table_wheelset", dict(fields, table=table, speed=speed))
     known = {f.name for f in dataclass_fields(TableBogieModel)}
