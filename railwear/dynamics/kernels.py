@@ -13,9 +13,11 @@ here recompiles them.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 from numba import literally, njit, typeof, types
+from numba.core.errors import NumbaIRAssumptionWarning
 from numba.extending import overload
 
 from railwear.contact.strip_fastsim import STRIP_CELLS, strip_march
@@ -1183,7 +1185,9 @@ class ByLiteral:
         entry = self._entries.get(key)
         if entry is not None:
             return entry[0](*args, *entry[1])
-        result = self.dispatcher(*args)  # compiles, or loads from the cache
+        with warnings.catch_warnings():  # numba's own inliner check, on the disk wheel's deposit
+            warnings.simplefilter("ignore", NumbaIRAssumptionWarning)
+            result = self.dispatcher(*args)  # compiles, or loads from the cache
         signature = tuple(types.literal(a) if i in self.literal else typeof(a) for i, a in enumerate(args))
         for sig, compiled in self.dispatcher.overloads.items():  # omitted defaults at the end
             if tuple(sig[:len(args)]) == signature and all(isinstance(s, types.Omitted) for s in sig[len(args):]):
