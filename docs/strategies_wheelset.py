@@ -31,6 +31,7 @@ FRICTION = 0.3
 SPEEDS = {"centred running": 30.0, "hunting": 60.0}  # m/s
 LIFE = 1e6  # m of running per unit normed time
 SAMPLES, SECONDS = 4, 2.0  # stepwise: draws per step and seconds gathered per draw
+QUICK_SAMPLES, QUICK_SECONDS = 2, 1.0  # --quick: a quarter of the gathered dynamics per step
 UPDATE_SECONDS = 0.25  # direct: profile and table updated every this many simulated seconds
 CONTACTS = ("hertz", "multi-hertz", "semi-hertzian")  # the tables' contact models, hertz first
 QUICK_CONTACTS = ("hertz", "semi-hertzian")  # --quick: the single point and the load-sharing patch
@@ -128,7 +129,8 @@ def runs(speed, quick, contact="hertz"):
         out[f"direct, A = {factor:g}"] = (ds, time.perf_counter() - t)
     for limit in limits:
         t = time.perf_counter()
-        ds = Stepwise(Wheelset(p, seconds=SECONDS, samples=SAMPLES), limit).run(until=distance / LIFE)
+        samples, seconds = (QUICK_SAMPLES, QUICK_SECONDS) if quick else (SAMPLES, SECONDS)
+        ds = Stepwise(Wheelset(p, seconds=seconds, samples=samples), limit).run(until=distance / LIFE)
         out[f"stepwise, {limit * 1e6:g} um"] = (ds, time.perf_counter() - t)
     return p, out
 
@@ -163,8 +165,8 @@ def wheelset_section(quick: bool) -> str:
         f"table's semi-axes. Every run goes {distance / 1e3:g} km from new profiles; after every "
         f"long-term step the wheel profile is worn by the angle-averaged depth of both wheels and "
         f"the contact table is recomputed from it. "
-        f"Stepwise: {SAMPLES} random starts (lateral offset 1-3 mm of either sign, random phase) of "
-        f"3 s transient + {SECONDS:g} s gathered per step, step limit = the largest change of the "
+        f"Stepwise: {QUICK_SAMPLES if quick else SAMPLES} random starts (lateral offset 1-3 mm of either "
+        f"sign, random phase) of 3 s transient + {QUICK_SECONDS if quick else SECONDS:g} s gathered per step, step limit = the largest change of the "
         f"fed lateral profile per step. Direct: one run from one such start, the wear coefficient "
         f"times A, profile and table updated every {UPDATE_SECONDS:g} s of simulated time. "
         f"Reference: {reference}. Everything is run on each contact model of the tables "
@@ -237,7 +239,8 @@ def wheelset_section(quick: bool) -> str:
         k = int(np.argmax(surface.mean(0)))
         lines.append(f"| {speed:g} m/s | {contact} | {1e6 * surface[:, k].mean():.2f} | "
                      f"{1e6 * np.ptp(surface[:, k]):.2f} |")
-    lines += ["", "### Why", "", _why(results, p, reference, finest, limits, factors),
+    samples = QUICK_SAMPLES if quick else SAMPLES
+    lines += ["", "### Why", "", _why(results, p, reference, finest, limits, factors, samples),
               _why_contacts(every, reference, finest), ""]
     return "\n".join(lines)
 
@@ -246,7 +249,7 @@ def _differences(out, reference, labels):
     return ", ".join(f"{relative_l2(out[label][0], out[reference][0]):.3f}" for label in labels)
 
 
-def _why(results, p, reference, finest, limits, factors):
+def _why(results, p, reference, finest, limits, factors, samples=SAMPLES):
     slow, fast = (results[r][1] for r in SPEEDS)
     first_slow, first_fast = slow[finest][0], fast[finest][0]
     low = SPEEDS["centred running"]
@@ -296,7 +299,7 @@ def _why(results, p, reference, finest, limits, factors):
         f"the reference's own error is about its difference from the run at twice its factor "
         f"({_differences(fast, reference, directs[-1:])}), which is the floor the finest steps reach. "
         f"The costs are of the same order here, stepwise the dearer: the wheelset on a table is cheap "
-        f"to integrate, each stepwise step pays {SAMPLES} transients of 3 s, and the contact tables, one "
+        f"to integrate, each stepwise step pays {samples} transients of 3 s, and the contact tables, one "
         f"per step or update, are a large part of the wall time.",
         "- **Angular pattern (output only).** The table model has no angle round the wheel, so the "
         "angle-dependent depth does not feed back; it records where the hunting cycle met the "
