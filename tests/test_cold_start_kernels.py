@@ -26,7 +26,7 @@ class Count(event.Listener):
         compiled.append(getattr(ev.data.get("dispatcher"), "__name__", "?"))
 
     def on_end(self, ev):
-        pass
+        """numba's listeners must have it; only the starts are counted."""
 
 event.register("numba:compile", Count())
 from railwear.contact import contact_constants, flexibilities, kalker_coefficients, linear_creep_forces
