@@ -25,8 +25,8 @@ class Count(event.Listener):
     def on_start(self, ev):
         compiled.append(getattr(ev.data.get("dispatcher"), "__name__", "?"))
 
-    def on_end(self, ev):
-        """numba's listeners must have it; only the starts are counted."""
+    def on_end(self, ev):  # numba's listeners must have it; only the starts are counted
+        return None
 
 event.register("numba:compile", Count())
 from railwear.contact import contact_constants, flexibilities, kalker_coefficients, linear_creep_forces
