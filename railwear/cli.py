@@ -90,7 +90,10 @@ def _output(directory):
     from railwear import results
 
     _state["output"] = directory
-    results.clean_partial(directory)
+    removed = results.clean_partial(directory)
+    if removed:
+        typer.echo(f"railwear: removed {len(removed)} temporary file(s) of a killed run from {directory}: "
+                   f"{', '.join(sorted(removed)[:3])}{' ...' if len(removed) > 3 else ''}", err=True)
     return directory
 
 

@@ -50,10 +50,24 @@ class Strategy(Registered, ABC):
         """The result Dataset of the run (the contract in this module's docstring)."""
 
 
+# The built-in strategies by module: a lookup by name imports them, so the registry does not
+# depend on what a process happened to import before (a resume in a fresh shell).
+BUILTIN_STRATEGIES = ("direct", "fourier", "multiplier", "phenomenological", "stepwise")
+
+
+def strategies():
+    """The registry of strategies, with every built-in one imported."""
+    from importlib import import_module
+
+    for module in BUILTIN_STRATEGIES:
+        import_module(f"railwear.longterm.{module}")
+    return Strategy.registry
+
+
 def strategy_class(name):
     """The registered strategy class of ``name``."""
     try:
-        return Strategy.registry[name]
+        return strategies()[name]
     except KeyError:
         raise ScenarioError(f"strategy: unknown kind {name!r}; known: {', '.join(sorted(Strategy.registry))}") from None
 
@@ -223,7 +237,7 @@ class Checkpoint:
         if version != CHECKPOINT_VERSION:
             raise CheckpointError(f"{source}: checkpoint format {version}, this railwear reads {CHECKPOINT_VERSION}")
         kind, key = str(kind_of("checkpoint_kind", "U", 0)), str(kind_of("fingerprint", "U", 0))
-        if kind not in Strategy.registry:
+        if kind not in strategies():
             refuse(f"unknown strategy {kind[:40]!r}")
         if len(key) != 64 or any(c not in "0123456789abcdef" for c in key):
             refuse("the fingerprint is not a SHA-256")
