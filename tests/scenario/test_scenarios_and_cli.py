@@ -227,37 +227,6 @@ def test_cli_run_plot_stability_show(tmp_path):
     assert runner.invoke(app, ["plot", str(tmp_path / "missing.nc")]).exit_code == 2
 
 
-@pytest.mark.parametrize("name, kill_after", [("onset", 7), ("stepwise", 2)])
-def test_killed_run_resumes_bit_for_bit(tmp_path, monkeypatch, name, kill_after):
-    runner = CliRunner()
-    whole = tmp_path / "whole"
-    assert runner.invoke(app, ["run", name, "-o", str(whole), "--no-figures"]).exit_code == 0
-    killed = tmp_path / "killed"
-    real_write = results.write_checkpoint
-    calls = []
-
-    def write_then_die(*args):
-        real_write(*args)
-        calls.append(1)
-        if len(calls) == kill_after:
-            raise KeyboardInterrupt  # the process is killed after this checkpoint
-
-    monkeypatch.setattr(results, "write_checkpoint", write_then_die)
-    r = runner.invoke(app, ["run", name, "-o", str(killed), "--no-figures", "--checkpoint-every", "0"])
-    assert r.exit_code != 0 and not (killed / "result.nc").exists()
-    state, _, _ = results.read_checkpoint(killed / "checkpoint.npz")
-    assert state.steps == kill_after  # it stopped where it was killed, not at the end
-    monkeypatch.setattr(results, "write_checkpoint", real_write)
-    r = runner.invoke(app, ["resume", str(killed), "--no-figures"])
-    assert r.exit_code == 0, r.output
-    a, b = results.read_netcdf(whole / "result.nc"), results.read_netcdf(killed / "result.nc")
-    np.testing.assert_array_equal(a.u.values, b.u.values)
-    np.testing.assert_array_equal(a.time.values, b.time.values)
-    assert a.attrs["scenario_hash"] == b.attrs["scenario_hash"]
-    assert not (killed / "checkpoint.npz").exists()
-    assert runner.invoke(app, ["resume", str(killed)]).exit_code == 2
-
-
 def test_default_scenario_is_resolved_and_512_points_are_flagged():
     """The crests sharpen down to orders near 160 at 220 km/h: 1024 points agree with 2048 to
     10 % (measured 5 %) with the same number of maxima; 512 points raise a ResolutionWarning."""
