@@ -398,8 +398,10 @@ def track(
 @app.command()
 def sweep(
     scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name")] = None,
-    vary: Annotated[list[str], typer.Option(help="NAME=A:B:STEP or NAME=v1,v2,... (a dotted scenario field); repeat for more")] = [],
-    samples: Annotated[Optional[int], typer.Option(help="Latin hypercube of N points over the --vary ranges instead of the grid")] = None,
+    vary: Annotated[list[str], typer.Option(help="NAME=A:B:STEP or NAME=v1,v2,... (a dotted scenario field), "
+                                                 "or NAME=A:B with --samples; repeat for more")] = [],
+    samples: Annotated[Optional[int], typer.Option(help="Latin hypercube of N points over the --vary ranges "
+                                                        "(A:B needs no STEP) instead of the grid")] = None,
     seed: Annotated[int, typer.Option(help="seed of the random design")] = 0,
     output: Annotated[Path, typer.Option("-o", "--output", help="sweep store directory")] = Path("railwear-sweep"),
     workers: Annotated[Optional[int], typer.Option(help="local worker processes (default: all cores)")] = None,
@@ -442,9 +444,15 @@ def sweep(
     except ScenarioError as e:
         _fail(str(e), 2)
     failed = int((ds.error != "").sum())
-    _draw(ds, output, fmt, dpi)
+    if not _draw(ds, output, fmt, dpi):  # no point ran: an earlier sweep's figure here is not this one's
+        from railwear.plots import FORMATS
+
+        for suffix in FORMATS:
+            (output / f"sweep.{suffix}").unlink(missing_ok=True)
     _print_sweep_table(ds)
     typer.echo(f"wrote {output / 'sweep.nc'}" + (f"; {failed} point(s) failed, see the error variable" if failed else ""))
+    if failed == ds.error.size:  # a point refused by validation counts too: none ran, so the run failed
+        _fail(f"every point of the sweep failed, so there is no figure; the first: {ds.error.values.flat[0]}", 1)
 
 
 def _print_sweep_table(ds):

@@ -46,23 +46,25 @@ class Vary:
 MAX_VALUES = 10000  # values of one range: more is a typo in STEP, not a study
 
 
+def _number(text):
+    """The finite number ``text`` spells (blanks round it allowed); else ValueError."""
+    text = text.strip(BLANK)
+    if not NUMBER.fullmatch(text) or not np.isfinite(float(text)):
+        raise ValueError
+    return float(text)
+
+
 def parse_values(spec, what):
     """``A:B:STEP`` (B included) or ``v1,v2,...`` as an array of finite numbers; anything else
     (a STEP of zero, NaN, more than :data:`MAX_VALUES` values) is an :class:`OptionError` naming ``what``."""
-    def number(text):
-        text = text.strip(BLANK)
-        if not NUMBER.fullmatch(text) or not np.isfinite(float(text)):
-            raise ValueError
-        return float(text)
-
     try:
         if ":" in spec:
-            a, b, step = (number(p) for p in spec.split(":"))
+            a, b, step = (_number(p) for p in spec.split(":"))
             if not (step > 0 and b >= a) or (b - a) / step >= MAX_VALUES:
                 raise ValueError
             values = np.arange(a, b + step / 2, step)
         else:
-            values = np.array([number(p) for p in spec.split(",")])
+            values = np.array([_number(p) for p in spec.split(",")])
         if not (0 < values.size <= MAX_VALUES and np.all(np.isfinite(values))):
             raise ValueError
     except ValueError:
@@ -72,11 +74,21 @@ def parse_values(spec, what):
 
 
 def parse_vary(text):
-    """``NAME=A:B:STEP`` (B included) or ``NAME=v1,v2,...``."""
+    """``NAME=A:B:STEP`` (B included), ``NAME=v1,v2,...`` or ``NAME=A:B``, a range with no values
+    that only a random design (:func:`design` with ``samples``) can use."""
     name, sep, spec = text.partition("=")
     name = name.strip()
     if not sep or not name or not spec:
-        raise OptionError(f"--vary {text!r}: expected NAME=A:B:STEP or NAME=v1,v2,...")
+        raise OptionError(f"--vary {text!r}: expected NAME=A:B:STEP, NAME=v1,v2,... or NAME=A:B (with --samples)")
+    if spec.count(":") == 1:
+        try:
+            low, high = (_number(p) for p in spec.split(":"))
+            if not high >= low:
+                raise ValueError
+        except ValueError:
+            raise OptionError(f"--vary {name}: expected A:B with B >= A (with --samples), A:B:STEP or "
+                              f"v1,v2,...; got {spec!r}") from None
+        return Vary(name, (), low, high)
     values = parse_values(spec, f"--vary {name}")
     return Vary(name, tuple(float(v) for v in values), float(values.min()), float(values.max()))
 
@@ -112,6 +124,10 @@ def design(varies, samples=None, seed=0):
     if len(set(fields)) != len(fields):
         raise OptionError("--vary names a field twice")
     if samples is None:
+        for v in varies:
+            if not v.values:
+                raise OptionError(f"--vary {v.field}: a range A:B has no values for a grid; give A:B:STEP or "
+                                  f"v1,v2,..., or --samples N for a Latin hypercube over it")
         coords = {v.field: np.array(v.values) for v in varies}
         points = [dict(zip(fields, combo)) for combo in product(*(v.values for v in varies))]
         return coords, points
