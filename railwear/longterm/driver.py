@@ -88,10 +88,10 @@ def drive(strategy, body, u0, until, depth_limit, settings=(), seed=0, n_save=No
             while state.mark < n_save and (state.time >= time_marks[state.mark] or (
                     depth_marks is not None and removed >= depth_marks[state.mark])):
                 state.mark += 1
+        if checkpoint is not None:  # before the progress: a fraction reported is a fraction saved
+            checkpoint(_snapshot(strategy.name, key, state))
         if progress is not None:
             progress(fraction_done(state.time, until, body.removed(state.u, u_start), depth_limit))
-        if checkpoint is not None:
-            checkpoint(_snapshot(strategy.name, key, state))
     saved = state.saved
     errors = saved.pop("_error")
     times = saved.pop("_time")

@@ -87,10 +87,29 @@ def dead_pid():
     return child.pid
 
 
-# scenario, --set fields, the kill points (% of the run) of the first run and of each resume
+def metro_on_the_ring_track(directory):
+    """The metro wheel on the time-domain track, direct strategy, 2000 km (a scenario file)."""
+    import tomllib
+
+    import tomli_w
+
+    from railwear.scenario import load_scenario, to_toml
+
+    data = tomllib.loads(to_toml(load_scenario("metro")))
+    data["solver"].pop("peak_to_peak_limit_mm")
+    data["solver"].update(t_end=0.02, points=256)
+    data["strategy"] = {"kind": "direct", "body": "vehicle_track", "acceleration_factor": 2e4}
+    path = directory / "metro-ring.toml"
+    path.write_text(tomli_w.dumps(data), encoding="utf-8")
+    return path.name
+
+
+# scenario (a built-in name, or a function writing a file), --set fields, the kill points (% of
+# the run) of the first run and of each resume
 CASES = {
     "stepwise": ("stepwise", (), (10, 40, 70, 90)),
     "direct": ("direct", (), (50,)),
+    "vehicle-track-direct": (metro_on_the_ring_track, (), (50,)),
     "phenomenological-batch": ("onset", ("operation.speed_kmh=[170.0, 190.0]", "solver.points=256"), (30,)),
 }
 
@@ -101,8 +120,10 @@ def test_killed_run_resumes_to_the_same_result(case, tmp_path):
     uninterrupted run's ``result.nc``, bit for bit; a killed writer's temporary file in the folder
     is removed, and said so."""
     scenario, sets, kills = CASES[case]
+    scenario = scenario(tmp_path) if callable(scenario) else scenario
     options = [a for s in sets for a in ("--set", s)]
-    uninterrupted("run", scenario, "-o", tmp_path / "reference", "--no-figures", *options)
+    uninterrupted("run", tmp_path / scenario if callable(CASES[case][0]) else scenario, "-o", tmp_path / "reference",
+                  "--no-figures", *options)
     out = tmp_path / "killed"
     killed_at(kills[0], "run", scenario, "-o", out, "--no-figures", "--checkpoint-every", "0", *options, cwd=tmp_path)
     for percent in kills[1:]:
