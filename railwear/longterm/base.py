@@ -41,42 +41,67 @@ ATTRIBUTES = ("strategy", "body", "scenario_hash")
 
 
 class Strategy(Registered, ABC):
-    """A long-term strategy; subclasses register with ``class X(Strategy, name="x")``."""
+    """A long-term strategy; subclasses register with ``class X(Strategy, name="x")``.
+
+    Rules for a new strategy:
+
+    1. ``run(u0, until, depth_limit, progress, checkpoint, resume)`` returns the result (the
+       contract in this module's docstring).
+    2. A stepped strategy defines ``advance(body, state, until)`` returning a
+       :class:`~railwear.longterm.driver.Step` and hands its loop to
+       :func:`~railwear.longterm.driver.drive`; it then also declares ``monte_carlo`` (``True``
+       when its steps carry standard errors) and ``attributes(state)`` (a dict for the result).
+       One without them is refused when its class is defined, naming the member.
+    """
 
     registry: dict = {}
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if callable(getattr(cls, "advance", None)):
+            if not isinstance(getattr(cls, "monte_carlo", None), bool):
+                raise TypeError(f"strategy {cls.__name__}: a stepped strategy (with advance) declares "
+                                "monte_carlo = True or False")
+            if not callable(getattr(cls, "attributes", None)):
+                raise TypeError(f"strategy {cls.__name__}: a stepped strategy (with advance) defines "
+                                "attributes(state), the dict of the result's attributes")
 
     @abstractmethod
     def run(self, u0=None, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
         """The result Dataset of the run (the contract in this module's docstring)."""
 
 
-# The built-in strategies by module: a lookup by name imports them, so the registry does not
-# depend on what a process happened to import before (a resume in a fresh shell).
+def _imported(registry, package, modules):
+    """``registry`` with the built-in ``modules`` of ``package`` imported: a lookup by name does not
+    depend on what the process imported before (a resume in a fresh shell)."""
+    from importlib import import_module
+
+    for module in modules:
+        import_module(f"{package}.{module}")
+    return registry
+
+
 BUILTIN_STRATEGIES = ("direct", "fourier", "multiplier", "phenomenological", "stepwise")
+BUILTIN_BODIES = ("disk_wheel", "disk_wheel_state", "vehicle_track_body", "wheelset_wear")
 
 
 def strategies():
     """The registry of strategies, with every built-in one imported."""
-    from importlib import import_module
-
-    for module in BUILTIN_STRATEGIES:
-        import_module(f"railwear.longterm.{module}")
-    return Strategy.registry
+    return _imported(Strategy.registry, "railwear.longterm", BUILTIN_STRATEGIES)
 
 
-def strategy_class(name):
-    """The registered strategy class of ``name``."""
-    try:
-        return strategies()[name]
-    except KeyError:
-        raise ScenarioError(f"strategy: unknown kind {name!r}; known: {', '.join(sorted(Strategy.registry))}") from None
+def bodies():
+    """The registry of bodies, with every built-in one imported."""
+    return _imported(Body.registry, "railwear.longterm", BUILTIN_BODIES)
 
 
-class Body(ABC):
-    """What a stepped strategy wears. ``u`` is the body's wear variable (an array; for the disk
-    wheel the radius deviation, m, for the wheelset the removed depth of both wheels, m)."""
+class Body(Registered, ABC):
+    """What a stepped strategy wears; subclasses register with ``class X(Body, name="x")`` and
+    the result's ``body`` attribute is that name. ``u`` is the body's wear variable (an array;
+    for the disk wheel the radius deviation, m, for the wheelset the removed depth of both
+    wheels, m). Abstract members left out fail when the body is constructed, naming them."""
 
-    name: str = ""
+    registry: dict = {}
     label: str = ""
 
     @abstractmethod
@@ -128,8 +153,9 @@ class Body(ABC):
         when ``dT`` is exactly the ``remaining`` normed time."""
 
     @abstractmethod
-    def record(self, u, seen):
-        """Plain values saved at an output (a dict of arrays and numbers)."""
+    def record(self, u, seen, law_volume):
+        """Plain values saved at an output (a dict of arrays and numbers): of the wear variable
+        ``u``, the body's record ``seen`` of the last runs and the law's volume so far (m³)."""
 
     @abstractmethod
     def result(self, records, times, cost, error, attrs):

@@ -149,7 +149,7 @@ class ServiceSpeeds:
 
 
 @dataclass(frozen=True)
-class DiskWheel(RadiusBody):
+class DiskWheel(RadiusBody, name="disk_wheel"):
     """The disk wheel ``model`` (a :class:`~railwear.dynamics.DiskWheelModel`; its speed, phase
     and ``u`` are replaced per run) worn by ``law`` (a :class:`~railwear.wear.WearLaw`) over the
     lateral ``band_width`` (m); ``life_distance`` (m) one unit of normed time. Frozen geometry
@@ -171,7 +171,6 @@ class DiskWheel(RadiusBody):
     integration: Integrator = field(default_factory=long_term_integrator)
     _coupled: dict = field(default_factory=dict, compare=False, repr=False)
 
-    name = "disk_wheel"
     label = "disk wheel"
 
     def __post_init__(self):

@@ -37,7 +37,7 @@ def ring_for(track, n_sleepers=32, max_frequency_hz=3000.0, reference_frequency_
 
 
 @dataclass(frozen=True)
-class VehicleTrackBody(DiskWheel):
+class VehicleTrackBody(DiskWheel, name="vehicle_track"):
     """The disk wheel ``model`` (a rigid-rail :class:`~railwear.dynamics.DiskWheelModel`,
     ``rail_mass=None``) on ``ring`` (a :class:`RingTrack`), RK4 steps of at most ``dt`` [s]
     (each run takes the largest step that fits a whole number in a revolution). The other
@@ -48,7 +48,6 @@ class VehicleTrackBody(DiskWheel):
     ring: RingTrack | None = None
     dt: float = 1e-4
 
-    name = "vehicle_track"
     label = "disk wheel on the discrete track"
 
     def __post_init__(self):

@@ -434,7 +434,7 @@ class WheelsetWear:
 
 
 @dataclass(frozen=True)
-class Wheelset(Body):
+class Wheelset(Body, name="wheelset"):
     """The wheelset of ``problem`` as a long-term body. Frozen geometry: ``samples`` runs from
     random starts, each ``seconds`` (s) after the transient; coupled: the profile and the table
     follow the surface every ``update_seconds`` (s) of simulated time. The wear variable ``u`` is
@@ -447,7 +447,6 @@ class Wheelset(Body):
     update_seconds: float = 0.5
     _table: dict = field(default_factory=dict, compare=False, repr=False)
 
-    name = "wheelset"
     label = "wheelset"
 
     def __post_init__(self):

@@ -14,7 +14,7 @@ from railwear.longterm.spectra import describe
 
 
 @dataclass(frozen=True)
-class Ring(RadiusBody):
+class Ring(RadiusBody, name="ring"):
     mean: float = 2e-4
     amplitude: float = 5e-5
     order: int = 6
@@ -23,7 +23,6 @@ class Ring(RadiusBody):
     cell_volume: float = 1e-6
     samples: int = 4
 
-    name = "ring"
     label = "ring"
 
     def rate(self, n):
