@@ -188,23 +188,53 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
         if self.service is None:
             object.__setattr__(self, "service", ServiceSpeeds((self.model.speed,)))
 
+    # the dynamics hook: a body on other dynamics (VehicleTrackBody) overrides these five
+    def dynamics(self, model):
+        """What integrates the disk wheel ``model``: here the model itself, by ``integration``."""
+        return model
+
+    def positions(self, rng, count):
+        """Where each of ``count`` runs starts along the track: here nowhere (no draw)."""
+        return [None] * count
+
+    def at_rest(self, model, dyn, where):
+        """The state a run of ``model`` starts in at ``where``."""
+        return model.initial_state()
+
+    def seconds(self, model, dyn, revolutions, per=1):
+        """Duration (s) of ``revolutions / per`` wheel turns."""
+        return revolutions * wheel_turn(model) / per
+
+    def run(self, model, dyn, p, surf, y, where, t0, energy, revolutions, per=1):
+        """``(y, where, seconds, rhs)`` after ``revolutions / per`` turns from ``y`` at ``t0`` (s),
+        the frictional energy (J) per cell added to ``energy`` (size 0: none)."""
+        seconds = self.seconds(model, dyn, revolutions, per)
+        y, n = advance(model, p, surf, y, t0, t0 + seconds, energy, self.integration)
+        return y, where, seconds, n
+
+    def _transient(self, model, dyn, p, surf, where, cost):
+        """State, position and time (s) after ``transient_revolutions`` from rest at ``where``."""
+        y, t = self.at_rest(model, dyn, where), 0.0
+        if self.transient_revolutions > 0:
+            y, where, t, n = self.run(model, dyn, p, surf, y, where, 0.0, np.zeros(0), self.transient_revolutions)
+            cost["rhs_evaluations"] += n
+        return y, where, t
+
     # frozen geometry
     def frozen_runs(self, shape, rng, cost):
         """The Monte Carlo draws over the frozen ``shape`` (m): for each, the model at its drawn
-        speed and phase, its parameters, surface, state after the transient, the transient's end
-        (s) and one turn (s); the transient's right-hand sides are added to ``cost``."""
+        speed, phase and track position, its dynamics, parameters, surface, state after the
+        transient, the transient's end (s) and the position; the transient's right-hand sides are
+        added to ``cost``."""
         speeds = self.service.sample(rng, self.samples)
         phases = rng.uniform(0.0, 2.0 * np.pi, self.samples)
-        for v, phase in zip(speeds, phases):
+        for v, phase, where in zip(speeds, phases, self.positions(rng, self.samples)):
             model = replace(self.model, speed=float(v), radius_deviation=shape, initial_angle=float(phase),
                             initial_lift=start_lift(self.model, shape, phase))
-            p, surf, y = model.params(), model.surface(), model.initial_state()
-            turn = wheel_turn(model)
-            t0 = self.transient_revolutions * turn
-            if t0 > 0:
-                y, n = advance(model, p, surf, y, 0.0, t0, np.zeros(0), self.integration)
-                cost["rhs_evaluations"] += n
-            yield model, p, surf, y, t0, turn
+            dyn = self.dynamics(model)
+            p, surf = model.params(), model.surface()
+            y, where, t0 = self._transient(model, dyn, p, surf, where, cost)
+            yield model, dyn, p, surf, y, t0, where
 
     def draw(self, u, rng):
         """One Monte Carlo set over the frozen ``u`` (m): ``(rates, cost)``, ``rates`` the depth
@@ -213,11 +243,10 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
         u = np.asarray(u, float)
         rates = np.empty((self.samples, u.size))
         cost = {"revolutions": self.samples * (self.revolutions + self.transient_revolutions), "rhs_evaluations": 0}
-        for i, (model, p, surf, y, t0, turn) in enumerate(self.frozen_runs(u - u.mean(), rng, cost)):
-            depth, n = self._wear(model, p, surf, y, t0, t0 + self.revolutions * turn, u.size, self.revolutions)
+        for i, (model, dyn, p, surf, y, t0, where) in enumerate(self.frozen_runs(u - u.mean(), rng, cost)):
+            depth, seconds, n = self._wear(model, dyn, p, surf, y, where, t0, u.size)
             cost["rhs_evaluations"] += n
-            distance = self.revolutions * turn * model.speed
-            rates[i] = depth / distance * self.life_distance
+            rates[i] = depth / (seconds * model.speed) * self.life_distance
         return rates, cost
 
     def statistics(self, u, rng):
@@ -230,17 +259,18 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
         """The energy law's volume per frictional energy (m³/J), ``None`` for another law."""
         return self.law.beta
 
-    def _wear(self, model, p, surf, y, t0, t1, n_cells, revolutions):
-        """Depth (m) per cell worn from ``t0`` to ``t1`` over ``revolutions`` and the
+    def _wear(self, model, dyn, p, surf, y, where, t0, n_cells):
+        """Depth (m) per cell worn over ``revolutions`` from ``t0`` (s), their seconds and the
         right-hand sides; the compiled energy sweep for the energy law."""
         if self.beta is not None:
             energy = np.zeros(n_cells)
-            _, n = advance(model, p, surf, y, t0, t1, energy, self.integration)
-            return energy * depth_per_energy(model, n_cells, self.beta, self.band_width), n
-        n_output = max(int(math.ceil(revolutions * self.outputs_per_revolution)), 2) + 1
-        _, n, volume = swept_volume(model, p, surf, y, t0, t1, self.law, n_cells, self.band_width,
+            _, _, seconds, n = self.run(model, dyn, p, surf, y, where, t0, energy, self.revolutions)
+            return energy * depth_per_energy(model, n_cells, self.beta, self.band_width), seconds, n
+        n_output = max(int(math.ceil(self.revolutions * self.outputs_per_revolution)), 2) + 1
+        seconds = self.seconds(model, dyn, self.revolutions)
+        _, n, volume = swept_volume(model, p, surf, y, t0, t0 + seconds, self.law, n_cells, self.band_width,
                                     self.integration, n_output)
-        return volume / self.cell_volume(n_cells), n
+        return volume / self.cell_volume(n_cells), seconds, n
 
     def cell_volume(self, n_cells):
         """Volume (m³) per metre of depth of one of ``n_cells`` cells: ``R0 Δx w``."""
@@ -256,47 +286,50 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
             cost[k] += v
         return rate, error, float(rate.sum() * self.cell_volume(u.size)), None
 
+    def carried(self, where):
+        """The track position kept in a coupled run's carry (none here)."""
+        return {}
+
     def couple(self, u, rng, acceleration, cost):
         shape = u - u.mean()
-        model, p, turn, _, _ = self._derived(shape, acceleration)
-        y, t = model.initial_state(), self.transient_revolutions * turn
-        if t > 0:
-            y, n = advance(model, p, model.surface(), y, 0.0, t, np.zeros(0), self.integration)
-            cost["rhs_evaluations"] += n
+        model, dyn, p, _, _ = self._derived(shape, acceleration)
+        y, where, t = self._transient(model, dyn, p, model.surface(), self.positions(rng, 1)[0], cost)
         cost["revolutions"] += self.transient_revolutions
-        return {"shape": shape, "seconds": t, "state": y}
+        return {"shape": shape, "seconds": t, "state": y, **self.carried(where)}
 
     def _derived(self, shape, acceleration):
-        """The model over the start's ``shape`` (m), its parameters, one turn (s), the depth per
-        joule and the normed time per segment, kept for the run."""
+        """The model over the start's ``shape`` (m), its dynamics and parameters, the depth per
+        joule times ``A`` and the normed time per segment, kept for the run."""
         key = (np.asarray(shape, float).tobytes(), acceleration)
         if self._coupled.get("key") != key:
             model = replace(self.model, radius_deviation=shape,
                             initial_lift=start_lift(self.model, shape, self.model.initial_angle))
-            turn = wheel_turn(model)
+            dyn = self.dynamics(model)
             gain = acceleration * (1.0 if self.beta is None else
                                    depth_per_energy(model, shape.size, self.beta, self.band_width))
-            dT = acceleration * model.speed * (turn / self.updates_per_revolution) / self.life_distance
+            segment = self.seconds(model, dyn, 1, self.updates_per_revolution)
+            dT = acceleration * model.speed * segment / self.life_distance
             self._coupled.clear()
-            self._coupled.update(key=key, derived=(model, model.params(), turn, gain, dT))
+            self._coupled.update(key=key, derived=(model, dyn, model.params(), gain, dT))
         return self._coupled["derived"]
 
     def segment(self, u, carry, acceleration, remaining, cost):
-        model, p, turn, gain, dT = self._derived(carry["shape"], acceleration)
-        segment = turn / self.updates_per_revolution
-        t, surf = carry["seconds"], model.surface_for(u - u.mean())
+        model, dyn, p, gain, dT = self._derived(carry["shape"], acceleration)
+        t, surf, where = carry["seconds"], model.surface_for(u - u.mean()), carry.get("position")
         if self.beta is not None:
             energy = np.zeros(u.size)
-            y, n = advance(model, p, surf, carry["state"], t, t + segment, energy, self.integration)
+            y, where, segment, n = self.run(model, dyn, p, surf, carry["state"], where, t, energy, 1,
+                                            self.updates_per_revolution)
             increment, law = gain * energy, acceleration * self.beta * float(energy.sum())
         else:
+            segment = self.seconds(model, dyn, 1, self.updates_per_revolution)
             n_output = max(int(math.ceil(self.outputs_per_revolution / self.updates_per_revolution)), 2) + 1
             y, n, volume = swept_volume(model, p, surf, carry["state"], t, t + segment, self.law, u.size,
                                         self.band_width, self.integration, n_output)
             increment, law = acceleration * volume / self.cell_volume(u.size), acceleration * float(volume.sum())
         cost["rhs_evaluations"] += n
         cost["revolutions"] += 1 / self.updates_per_revolution
-        carry = {"shape": carry["shape"], "seconds": t + segment, "state": y}
+        carry = {"shape": carry["shape"], "seconds": t + segment, "state": y, **self.carried(where)}
         return increment, dT, False, law, None, carry
 
     def record(self, u, seen, law_volume):

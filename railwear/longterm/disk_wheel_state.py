@@ -68,8 +68,8 @@ class StatefulDiskWheel(DiskWheel):
 
     def rates(self, u, rng, cost):
         draws = np.empty((self.samples,) + u.shape)
-        for i, (model, p, surf, y, t0, turn) in enumerate(self.frozen_runs(u[0] - u[0].mean(), rng, cost)):
-            window = self.revolutions * turn
+        for i, (model, dyn, p, surf, y, t0, _) in enumerate(self.frozen_runs(u[0] - u[0].mean(), rng, cost)):
+            window = self.seconds(model, dyn, self.revolutions)
             _, n, ue, ze = self._evolve(model, p, surf, y, t0, t0 + window, u[0], u[1], 1.0, self.revolutions)
             cost["rhs_evaluations"] += n
             draws[i] = np.stack([u[0] - ue, u[1] - ze]) * self.life_distance / (model.speed * window)
@@ -81,8 +81,8 @@ class StatefulDiskWheel(DiskWheel):
         return super().couple(u[0], rng, acceleration, cost)
 
     def segment(self, u, carry, acceleration, remaining, cost):
-        model, p, turn, _, dT = self._derived(carry["shape"], acceleration)
-        segment = turn / self.updates_per_revolution
+        model, dyn, p, _, dT = self._derived(carry["shape"], acceleration)
+        segment = self.seconds(model, dyn, 1, self.updates_per_revolution)
         t, surf = carry["seconds"], model.surface_for(u[0] - u[0].mean())
         y, n, ue, ze = self._evolve(model, p, surf, carry["state"], t, t + segment, u[0], u[1], acceleration,
                                     1.0 / self.updates_per_revolution)

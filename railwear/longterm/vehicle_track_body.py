@@ -18,13 +18,13 @@ Laws proportional to the frictional power (``law.beta``, the energy law) only.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from railwear.dynamics.disk_wheel_track import WheelOnRing
 from railwear.errors import ScenarioError
-from railwear.longterm.disk_wheel import DiskWheel, depth_per_energy, start_lift, wheel_turn
+from railwear.longterm.disk_wheel import DiskWheel, wheel_turn
 from railwear.track.modal import RingTrack
 
 __all__ = ["VehicleTrackBody", "ring_for"]
@@ -70,85 +70,31 @@ class VehicleTrackBody(DiskWheel, name="vehicle_track"):
             raise ScenarioError("u0: the vehicle-track body needs the radius deviation on its grid (m)")
         return super().start(u0)
 
-    def _draw_runs(self, shape, rng, cost):
-        """The Monte Carlo draws over the frozen ``shape`` (m): the dynamics at the drawn speed
-        and phase, the parameters, surface, state after the transient, its time (s) and track
-        position (m), the steps per revolution."""
-        speeds = self.service.sample(rng, self.samples)
-        phases = rng.uniform(0.0, 2.0 * np.pi, self.samples)
-        positions = rng.uniform(0.0, self.ring.length, self.samples)
-        for v, phase, x in zip(speeds, phases, positions):
-            model = replace(self.model, speed=float(v), radius_deviation=shape, initial_angle=float(phase),
-                            initial_lift=start_lift(self.model, shape, phase))
-            dyn = self.dynamics(model)
-            p, surf = model.params(), model.surface()
-            per_turn = int(round(wheel_turn(model) / dyn.dt))
-            y = dyn.static_state(x, model.initial_lift)
-            t0 = 0.0
-            if self.transient_revolutions > 0:
-                n = self.transient_revolutions * per_turn
-                y, _ = dyn.run(y, 0.0, n, x, p, surf)
-                cost["rhs_evaluations"] += 4 * n
-                t0, x = n * dyn.dt, x + model.speed * n * dyn.dt
-            yield model, dyn, p, surf, y, t0, x, per_turn
+    def positions(self, rng, count):
+        """Uniformly random positions (m) along the ring, one per run."""
+        return rng.uniform(0.0, self.ring.length, count)
 
-    def draw(self, u, rng):
-        """One Monte Carlo set over the frozen ``u`` (m): ``(rates, cost)``, ``rates`` the depth
-        per unit normed time of each draw and cell (m), ``(samples, n)``."""
-        u = np.asarray(u, float)
-        rates = np.empty((self.samples, u.size))
-        cost = {"revolutions": self.samples * (self.revolutions + self.transient_revolutions), "rhs_evaluations": 0}
-        for i, (model, dyn, p, surf, y, t0, x, per_turn) in enumerate(self._draw_runs(u - u.mean(), rng, cost)):
-            energy = np.zeros(u.size)
-            n = self.revolutions * per_turn
-            dyn.run(y, t0, n, x, p, surf, energy)
-            cost["rhs_evaluations"] += 4 * n
-            distance = n * dyn.dt * model.speed
-            rates[i] = energy * depth_per_energy(model, u.size, self.beta, self.band_width) / distance * self.life_distance
-        return rates, cost
+    def at_rest(self, model, dyn, where):
+        return dyn.static_state(where, model.initial_lift)
 
-    def couple(self, u, rng, acceleration, cost):
-        shape = u - u.mean()
-        model, dyn, p, per_turn, gain, dT = self._derived(shape, acceleration)
-        x = float(rng.uniform(0.0, self.ring.length))
-        y, t = dyn.static_state(x, model.initial_lift), 0.0
-        if self.transient_revolutions > 0:
-            n = self.transient_revolutions * per_turn
-            y, _ = dyn.run(y, 0.0, n, x, p, model.surface())
-            cost["rhs_evaluations"] += 4 * n
-            t, x = n * dyn.dt, x + model.speed * n * dyn.dt
-        cost["revolutions"] += self.transient_revolutions
-        return {"shape": shape, "seconds": t, "state": y, "position": x % self.ring.length}
+    def _steps(self, model, dyn, revolutions, per):
+        """RK4 steps in ``revolutions / per`` turns (``per`` must divide them)."""
+        steps = revolutions * int(round(wheel_turn(model) / dyn.dt))
+        if steps % per:
+            raise ScenarioError(f"updates_per_revolution: must divide the {steps} steps of a revolution")
+        return steps // per
 
-    def _derived(self, shape, acceleration):
-        """The model over the start's ``shape`` (m), its dynamics and parameters, the steps per
-        revolution, the depth per joule times ``A`` and the normed time per segment."""
-        key = (np.asarray(shape, float).tobytes(), acceleration)
-        if self._coupled.get("key") != key:
-            model = replace(self.model, radius_deviation=shape,
-                            initial_lift=start_lift(self.model, shape, self.model.initial_angle))
-            dyn = self.dynamics(model)
-            per_turn = int(round(wheel_turn(model) / dyn.dt))
-            if per_turn % self.updates_per_revolution:
-                raise ScenarioError(f"updates_per_revolution: must divide the {per_turn} steps of a revolution")
-            gain = acceleration * depth_per_energy(model, shape.size, self.beta, self.band_width)
-            segment = per_turn // self.updates_per_revolution * dyn.dt
-            dT = acceleration * model.speed * segment / self.life_distance
-            self._coupled.clear()
-            self._coupled.update(key=key, derived=(model, dyn, model.params(), per_turn, gain, dT))
-        return self._coupled["derived"]
+    def seconds(self, model, dyn, revolutions, per=1):
+        """Duration (s) of ``revolutions / per`` turns in whole RK4 steps."""
+        return self._steps(model, dyn, revolutions, per) * dyn.dt
 
-    def segment(self, u, carry, acceleration, remaining, cost):
-        model, dyn, p, per_turn, gain, dT = self._derived(carry["shape"], acceleration)
-        n = per_turn // self.updates_per_revolution
-        t, x, surf = float(carry["seconds"]), float(carry["position"]), model.surface_for(u - u.mean())
-        energy = np.zeros(u.size)
-        y, _ = dyn.run(carry["state"], t, n, x, p, surf, energy)
-        cost["rhs_evaluations"] += 4 * n
-        cost["revolutions"] += 1 / self.updates_per_revolution
-        carry = {"shape": carry["shape"], "seconds": t + n * dyn.dt, "state": y,
-                 "position": (x + model.speed * n * dyn.dt) % self.ring.length}
-        return gain * energy, dT, False, acceleration * self.beta * float(energy.sum()), None, carry
+    def run(self, model, dyn, p, surf, y, where, t0, energy, revolutions, per=1):
+        n = self._steps(model, dyn, revolutions, per)
+        y, _ = dyn.run(y, t0, n, where, p, surf, energy)
+        return y, where + model.speed * n * dyn.dt, n * dyn.dt, 4 * n
+
+    def carried(self, where):
+        return {"position": where % self.ring.length}
 
     def fingerprint_parts(self):
         ring = self.ring
