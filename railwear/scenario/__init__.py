@@ -37,26 +37,41 @@ def builtin_text(name):
 _BRANCHES = {"bool", "dict", "float", "int", "list", "none", "str"}  # pydantic's names of union branches
 
 
-def _branch(part):
-    return isinstance(part, str) and (not part.isidentifier() or part in _BRANCHES)
+def _parts(loc, data):
+    """``(part, is_branch)`` along a pydantic error location: a key of ``data`` (the validated
+    input) at that point is a field, whatever its spelling; otherwise a name that is not an
+    identifier, or one of pydantic's type names, is a union branch."""
+    node = data
+    for part in loc:
+        if isinstance(part, int):
+            node = node[part] if isinstance(node, list) and -len(node) <= part < len(node) else None
+            yield part, False
+        elif isinstance(node, dict) and part in node:
+            node = node[part]
+            yield part, False
+        else:
+            branch = not part.isidentifier() or part in _BRANCHES
+            node = node if branch else None
+            yield part, branch
 
 
-def _field_path(loc):
+def _field_path(loc, data=None):
     """A pydantic error location as a dotted field with list indices, without the names of union
     branches (``speed_kmh[1]``, not ``speed_kmh.list[constrained-float].1``)."""
     out = ""
-    for part in loc:
+    for part, branch in _parts(loc, data):
         if isinstance(part, int):
             out += f"[{part}]"
-        elif not _branch(part):
+        elif not branch:
             out += f".{part}" if out else part
     return out
 
 
-def _site(loc):
+def _site(loc, data=None):
     """The field an error is about: its location up to the first union branch."""
-    branch = next((i for i, part in enumerate(loc) if _branch(part)), len(loc))
-    return _field_path(loc[:branch])
+    parts = list(_parts(loc, data))
+    end = next((i for i, (_, branch) in enumerate(parts) if branch), len(parts))
+    return _field_path(loc[:end], data)
 
 
 _MESSAGES = {"model_type": "should be a table", "model_attributes_type": "should be a table",
@@ -70,21 +85,24 @@ def _message(error):
     return error["msg"].removeprefix("Value error, ").replace(" after validation", "")
 
 
-def _one_line(err: ValidationError, source):
-    """The first error of a validation as one line naming its field. Of a union's branches the
-    one that got furthest speaks (a bound broken before a type mismatched); branches that all
-    mismatched the type are joined with 'or'."""
+def _one_line(err: ValidationError, source, data=None):
+    """The first error of a validation as one line naming its field (by its key in ``data``, the
+    input). Of a union's branches the one that got furthest speaks (a bound broken before a type
+    mismatched); branches that all mismatched the type are joined with 'or'. A refusal of the
+    schema's own (:func:`~railwear.scenario.schema.refuse`) reads ``field.path: message``."""
     errors = err.errors()
-    site = _site(errors[0]["loc"])
-    branches = [e for e in errors if _site(e["loc"]) == site]
+    site = _site(errors[0]["loc"], data)
+    if errors[0]["type"] == "field":
+        return f"{source}: {site}: {errors[0]['msg']}"
+    branches = [e for e in errors if _site(e["loc"], data) == site]
     rank = lambda e: (not e["type"].endswith("_type"), len(e["loc"]))  # noqa: E731
     best = max(map(rank, branches))
     chosen = [e for e in branches if rank(e) == best]
     messages = list(dict.fromkeys(_message(e) for e in chosen))
     message = messages[0] + "".join(" or " + m.removeprefix("Input should be ") for m in messages[1:])
-    more = {_site(e["loc"]) for e in errors} - {site}
+    more = {_site(e["loc"], data) for e in errors} - {site}
     more = f" (and {len(more)} more)" if more else ""
-    return f"{source}: field '{_field_path(chosen[0]['loc']) or 'scenario'}': {message}{more}"
+    return f"{source}: field '{_field_path(chosen[0]['loc'], data) or 'scenario'}': {message}{more}"
 
 
 def decode_text(data: bytes, source, error=ScenarioError):
@@ -126,7 +144,7 @@ def validated(model, data, source):
     try:
         return model.model_validate(data)
     except ValidationError as e:
-        raise ScenarioError(_one_line(e, source)) from None
+        raise ScenarioError(_one_line(e, source, data)) from None
     except RecursionError:
         raise ScenarioError(f"{source}: nested too deeply") from None
 

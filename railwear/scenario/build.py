@@ -109,13 +109,13 @@ def strategy(scenario: Scenario):
     return BUILDERS[scenario.strategy.kind](scenario)
 
 
-def one_speed(scenario: Scenario):
-    """The operation speed (m/s) of a strategy that takes one."""
+def one_speed(scenario: Scenario, instead="; sweep over speeds instead"):
+    """The operation speed (m/s) of a strategy that takes one; a list is refused naming its field,
+    saying what to do ``instead``."""
     speeds = scenario.operation.speeds
     if isinstance(speeds, list):
         field = "speed_kmh" if scenario.operation.speed_kmh is not None else "speed_m_s"
-        raise ScenarioError(f"operation.{field}: the {scenario.strategy.kind} strategy takes one speed; "
-                            "sweep over speeds instead")
+        raise ScenarioError(f"operation.{field}: the {scenario.strategy.kind} strategy takes one speed{instead}")
     return speeds
 
 
@@ -226,10 +226,8 @@ def service_speeds(scenario: Scenario):
     service, speeds = scenario.service, scenario.operation.speeds
     if service.speed_kmh is not None:
         peaks = kmh_to_m_s(list(service.speed_kmh))
-    elif isinstance(speeds, list):
-        raise ScenarioError("operation: the stepwise strategy takes one speed, or peaks in service.speed_kmh")
     else:
-        peaks = [speeds]
+        peaks = [one_speed(scenario, ", or peaks in service.speed_kmh")]
     return ServiceSpeeds(tuple(peaks), None if service.speed_weights is None else tuple(service.speed_weights),
                          kmh_to_m_s(service.speed_scatter_kmh))
 
@@ -299,10 +297,8 @@ def wheelset_wear(scenario: Scenario):
     from railwear.geometry import contact_table
     from railwear.longterm.wheelset_wear import WheelsetWear
 
-    speed, ww, c, w, ws = (scenario.operation.speeds, scenario.wheelset_wear, scenario.contact, scenario.wheel,
+    speed, ww, c, w, ws = (one_speed(scenario), scenario.wheelset_wear, scenario.contact, scenario.wheel,
                            scenario.wheelset)
-    if isinstance(speed, list):
-        raise ScenarioError("operation: the wheelset wear strategies take one speed; sweep over speeds instead")
     n = max(int(round(ww.shift_max_mm / ww.shift_step_mm)), 1)
     shifts = np.round(np.linspace(-ww.shift_max_mm, ww.shift_max_mm, 2 * n + 1) * MM, 12)
     wheel, rail = profile(scenario, "wheel"), profile(scenario, "rail")

@@ -10,6 +10,7 @@ from typing import Annotated, ClassVar, Literal
 
 from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, SerializeAsAny, ValidationError,
                       field_validator, model_validator)
+from pydantic_core import PydanticCustomError
 
 from railwear.units import GPA, UG, kmh_to_m_s
 
@@ -27,6 +28,23 @@ Coefficient = Annotated[float, Field(ge=-1e9, le=1e9)]  # h's terms (m per unit 
 Count = Annotated[int, Field(ge=1, le=32768)]  # polygon orders: half the finest grid
 MAX_LIST = 10000  # per-speed tables, batches and harmonics: more is a mistake, not a study
 MAX_STEPS = 10**6  # fixed time steps of one run: beyond this it does not end in a working day
+MAX_SAVED = 10000  # saved states of one run (solver.n_save): a figure shows a few hundred
+MAX_SAVED_VALUES = 2 * 10**7  # n_save x points: 160 MB of float64 per saved field
+MAX_LONGTERM_STEPS = 10**5  # stepwise steps to the depth limit: each runs the dynamics (0.1-1 s)
+WORN_MM = 100.0  # the most a run can wear off (mm; a wheel has ~40 mm to lose): steps without a depth limit
+
+
+def refuse(field, message):
+    """A validation error located at ``field`` (a name, or a tuple of names and indices, below
+    the model that raises it); shown as ``section.field: message``."""
+    loc = field if isinstance(field, tuple) else (field,)
+    error = PydanticCustomError("field", "{message}", {"message": message})
+    return ValidationError.from_exception_data("scenario", [{"type": error, "loc": loc, "input": None}])
+
+
+def _increasing(values):
+    """Whether ``values`` (a list) are distinct and in increasing order."""
+    return bool(values) and sorted(set(values)) == list(values)
 
 
 def _printable(text, allowed=""):
@@ -165,13 +183,13 @@ def _section_of(registry, key, default, what):
             raise ValueError(f"must be a table, not {type(value).__name__}")
         name = value.get(key, default)
         if not isinstance(name, str) or name not in registry:
-            raise ValueError(f"{key}: unknown {what} {name!r}; known: {', '.join(sorted(registry))}")
+            raise refuse(key, f"unknown {what} {name!r}; known: {', '.join(sorted(registry))}")
         try:
             return registry[name].model_validate(value)
         except ValidationError as e:
             extra = [err["loc"][0] for err in e.errors() if err["type"] == "extra_forbidden"]
             if extra:
-                raise ValueError(f"{extra[0]}: does not apply to {key} {name!r}") from None
+                raise refuse(extra[0], f"does not apply to {key} {name!r}") from None
             raise
     return pick
 
@@ -187,8 +205,8 @@ class Operation(_Section):
             raise ValueError("give exactly one of speed_kmh and speed_m_s")
         for name in ("speed_kmh", "speed_m_s"):
             value = getattr(self, name)
-            if isinstance(value, list) and (not value or sorted(set(value)) != value):
-                raise ValueError(f"{name} must list distinct speeds in increasing order")
+            if isinstance(value, list) and not _increasing(value):
+                raise refuse(name, "must list distinct speeds in increasing order")
         return self
 
     @property
@@ -211,19 +229,42 @@ class WearRate(_Section):
     c3: Coefficient = 0.0
     curvature_m: Annotated[list[Annotated[float, Field(ge=-10, le=10)]], Field(min_length=1, max_length=MAX_LIST)] | None = None
     table_speed_kmh: Annotated[list[Speed_kmh], Field(min_length=1, max_length=MAX_LIST)] | None = None
-    rate_m: list[Coefficient] | list[list[Coefficient]] | None = None
+    rate_m: Annotated[list[Coefficient | Annotated[list[Coefficient], Field(max_length=MAX_LIST)]],
+                      Field(min_length=1, max_length=MAX_LIST)] | None = None
     drift_rad: Coefficient | list[Coefficient] = 0.0
     dispersion_rad3: Coefficient | list[Coefficient] = 0.0
 
     @model_validator(mode="after")
     def _table_given(self):
-        if self.form == "table" and (self.curvature_m is None or self.rate_m is None):
-            raise ValueError("form 'table' needs curvature_m and rate_m")
+        if self.form == "table":
+            if self.curvature_m is None or self.rate_m is None:
+                raise refuse("curvature_m" if self.curvature_m is None else "rate_m",
+                             "form 'table' needs curvature_m and rate_m")
+            self._table_shape()
         for name in ("drift_rad", "dispersion_rad3"):
             value = getattr(self, name)
             if isinstance(value, list) and (self.table_speed_kmh is None or len(value) != len(self.table_speed_kmh)):
-                raise ValueError(f"{name}: a list needs table_speed_kmh and one value per table speed")
+                raise refuse(name, "a list needs table_speed_kmh and one value per table speed")
         return self
+
+    def _table_shape(self):
+        """``rate_m``: one entry per ``curvature_m`` value (at least 4, increasing for the
+        spline), each a number, or with ``table_speed_kmh`` a row of one number per table speed."""
+        curvature, speeds, rate = self.curvature_m, self.table_speed_kmh, self.rate_m
+        if len(curvature) < 4:
+            raise refuse("curvature_m", f"needs at least 4 values for the spline, not {len(curvature)}")
+        if not _increasing(curvature):
+            raise refuse("curvature_m", "must list distinct values in increasing order")
+        if speeds is not None and not _increasing(speeds):
+            raise refuse("table_speed_kmh", "must list distinct speeds in increasing order")
+        if len(rate) != len(curvature):
+            raise refuse("rate_m", f"expected one entry per curvature_m value ({len(curvature)}), not {len(rate)}")
+        for i, row in enumerate(rate):
+            if speeds is None and isinstance(row, list):
+                raise refuse(("rate_m", i), "expected a number (rows of one value per speed need table_speed_kmh)")
+            if speeds is not None and (not isinstance(row, list) or len(row) != len(speeds)):
+                given = len(row) if isinstance(row, list) else "a number"
+                raise refuse(("rate_m", i), f"expected a row of {len(speeds)} values, one per table_speed_kmh, not {given}")
 
 
 class Solver(_Section):
@@ -233,7 +274,7 @@ class Solver(_Section):
     t_end: Annotated[float, Field(gt=0, le=1e3)] = 1.0  # normed lives
     depth_limit_mm: Annotated[float, Field(ge=1e-6, le=100)] | None = 1.0  # a wheel has ~40 mm to lose
     peak_to_peak_limit_mm: Annotated[float, Field(ge=1e-4, le=10)] | None = None  # out of round: 0.1-0.6 mm
-    n_save: Annotated[int, Field(ge=2, le=100000)] = 101
+    n_save: Annotated[int, Field(ge=2, le=MAX_SAVED)] = 101
     dealias: bool = True
     dt: Annotated[float, Field(gt=0, le=1e3)] | None = None
 
@@ -246,10 +287,15 @@ class Solver(_Section):
 
     @model_validator(mode="after")
     def _steps(self):
-        """A guard on the step count, not on the clock: a fixed ``dt`` may not take more than
-        :data:`MAX_STEPS` steps to ``t_end``."""
+        """A guard on the work, not on the clock: a fixed ``dt`` may not take more than
+        :data:`MAX_STEPS` steps to ``t_end``, the saved states not hold more than
+        :data:`MAX_SAVED_VALUES` values."""
         if self.dt is not None and self.t_end / self.dt > MAX_STEPS:
-            raise ValueError(f"dt: t_end / dt = {self.t_end / self.dt:.3g} steps, more than {MAX_STEPS:.0e}")
+            raise refuse("dt", f"t_end / dt = {self.t_end / self.dt:.3g} steps, more than {MAX_STEPS:.0e}")
+        if self.n_save * self.points > MAX_SAVED_VALUES:
+            raise refuse("n_save", f"n_save x points = {self.n_save * self.points:.3g} saved values, more than "
+                                   f"{MAX_SAVED_VALUES:.0e}: at most {MAX_SAVED_VALUES // self.points} "
+                                   f"at {self.points} points")
         return self
 
 
@@ -268,11 +314,16 @@ class Initial(_Section):
     @model_validator(mode="after")
     def _complete(self):
         if self.kind == "harmonics" and (self.orders is None or self.amplitudes_um is None):
-            raise ValueError("kind 'harmonics' needs orders and amplitudes_um")
+            raise refuse("orders" if self.orders is None else "amplitudes_um",
+                         "kind 'harmonics' needs orders and amplitudes_um")
         if self.kind == "measured" and not self.file:
-            raise ValueError("kind 'measured' needs file (a CSV of angle and deviation)")
+            raise refuse("file", "kind 'measured' needs file (a CSV of angle and deviation)")
         if self.lowest_order > self.highest_order:
-            raise ValueError("lowest_order must not exceed highest_order")
+            raise refuse("lowest_order", f"must not exceed highest_order ({self.highest_order})")
+        for name in ("amplitudes_um", "phases_deg"):
+            values = getattr(self, name)
+            if self.kind == "harmonics" and values is not None and len(values) != len(self.orders):
+                raise refuse(name, f"needs one value per order ({len(self.orders)}), not {len(values)}")
         return self
 
 
@@ -294,7 +345,7 @@ class StrategySection(_Section):
                              f"not {self.kind!r}")
         for name in self.disk_wheel_only:
             if self.body == "wheelset" and name in self.model_fields_set:
-                raise ValueError(f"{name}: applies to bodies 'disk_wheel' and 'vehicle_track' only, not {self.body!r}")
+                raise refuse(name, f"applies to bodies 'disk_wheel' and 'vehicle_track' only, not {self.body!r}")
         return self
 
 
@@ -413,10 +464,11 @@ class Vehicle(_Section):
 
     @model_validator(mode="after")
     def _modes(self):
-        counts = {len(self.wheel_mode_frequencies_hz), len(self.wheel_mode_masses_kg), len(self.wheel_mode_damping_ratios)}
-        if len(counts) > 1:
-            raise ValueError("wheel_mode_frequencies_hz, wheel_mode_masses_kg and wheel_mode_damping_ratios: "
-                             "give one value per mode in each")
+        modes = len(self.wheel_mode_frequencies_hz)
+        for name in ("wheel_mode_masses_kg", "wheel_mode_damping_ratios"):
+            if len(getattr(self, name)) != modes:
+                raise refuse(name, f"give one value per mode in wheel_mode_frequencies_hz ({modes}), "
+                                   f"not {len(getattr(self, name))}")
         return self
 
 
@@ -452,7 +504,7 @@ class TrackSection(_Section):
         given = sorted(self.model_fields_set & {"sleeper_mass_kg", "ballast_stiffness_MN_m", "ballast_damping_kN_s_m",
                                                 "ballast_loss_factor"})
         if self.base == "rigid" and given:
-            raise ValueError(f"{given[0]}: does not apply to base 'rigid'")
+            raise refuse(given[0], "does not apply to base 'rigid'")
         return self
 
 
@@ -526,11 +578,12 @@ class WheelsetWear(_Section):
     @model_validator(mode="after")
     def _ranges(self):
         if not self.lateral_min_mm < self.lateral_max_mm:
-            raise ValueError("lateral_min_mm must be below lateral_max_mm")
+            raise refuse("lateral_min_mm", f"lateral_min_mm must be below lateral_max_mm ({self.lateral_min_mm:g} mm "
+                                           f">= {self.lateral_max_mm:g} mm)")
         if self.offset_min_mm > self.offset_max_mm:
-            raise ValueError("offset_min_mm must not exceed offset_max_mm")
+            raise refuse("offset_min_mm", f"must not exceed offset_max_mm ({self.offset_max_mm:g})")
         if self.shift_step_mm > self.shift_max_mm:
-            raise ValueError("shift_step_mm must not exceed shift_max_mm")
+            raise refuse("shift_step_mm", f"must not exceed shift_max_mm ({self.shift_max_mm:g})")
         return self
 
 
@@ -549,12 +602,15 @@ class Service(_Section):
     def _distribution(self):
         if self.speed_weights is not None:
             if self.speed_kmh is None or len(self.speed_weights) != len(self.speed_kmh):
-                raise ValueError("speed_weights needs one weight per speed_kmh peak")
+                peaks = len(self.speed_kmh or ())
+                raise refuse("speed_weights", f"needs one weight per speed_kmh peak: {len(self.speed_weights)} "
+                                              f"weight(s), {peaks} peak(s)")
             if abs(sum(self.speed_weights) - 1) > 1e-9:
-                raise ValueError(f"the speed distribution must sum to 1, not {sum(self.speed_weights):g}")
+                raise ValueError(f"the speed distribution must sum to 1, not {sum(self.speed_weights):g} "
+                                 "(speed_weights)")
         if self.friction_range is not None and (len(self.friction_range) != 2
                                                 or self.friction_range[0] > self.friction_range[1]):
-            raise ValueError("friction_range must be [low, high]")
+            raise refuse("friction_range", "must be [low, high]")
         return self
 
 
@@ -587,8 +643,34 @@ class Scenario(_Section):
         for section, names, applies, to in self._only_for():
             given = getattr(self, section).model_fields_set & set(names or type(getattr(self, section)).model_fields)
             if given and not applies:
-                raise ValueError(f"{section}.{sorted(given)[0]}: applies to {to} only")
+                raise refuse((section, sorted(given)[0]), f"applies to {to} only")
+        self._orders_on_grid()
+        self._stepwise_steps()
         return self
+
+    def _orders_on_grid(self):
+        """The initial orders resolved on ``solver.points``: below the Nyquist order ``points / 2``."""
+        if self.strategy.body == "wheelset":  # starts from the new profile
+            return
+        init, points = self.initial, self.solver.points
+        top = points // 2 - 1
+        if init.kind == "random" and init.highest_order > top:
+            raise refuse(("initial", "highest_order"), f"must be at most {top} on solver.points = {points}")
+        for i, order in enumerate(init.orders or ()):
+            if init.kind == "harmonics" and order > top:
+                raise refuse(("initial", "orders", i), f"must be at most {top} on solver.points = {points}")
+
+    def _stepwise_steps(self):
+        """A guard on the work of a step limit: at most :data:`MAX_LONGTERM_STEPS` steps of
+        ``strategy.step_limit_um`` to ``solver.depth_limit_mm`` (without one, to :data:`WORN_MM`)."""
+        step = getattr(self.strategy, "step_limit_um", None)
+        if step is None:
+            return
+        depth = self.solver.depth_limit_mm or WORN_MM
+        steps = depth * 1e3 / step
+        if steps > MAX_LONGTERM_STEPS:
+            raise refuse(("strategy", "step_limit_um"), f"{depth:g} mm to wear in steps of {step:g} um is {steps:.3g} "
+                         f"steps, more than {MAX_LONGTERM_STEPS:.0e}: at least {depth * 1e3 / MAX_LONGTERM_STEPS:g} um")
 
     def _only_for(self):
         """(section, fields or None for all, whether they apply, to what)."""

@@ -104,7 +104,7 @@ def test_a_killed_cli_run_resumes_to_the_same_file(tmp_path, monkeypatch, direct
     ((("samples = 2", "samples = 2\nrevolutions = 3"),), "revolutions: applies to bodies 'disk_wheel' and 'vehicle_track' only"),
     ((("[solver]", "[disk_wheel]\nrail_mass_kg = 100.0\n\n[solver]"),), "disk_wheel.rail_mass_kg: applies to body 'disk_wheel' only"),
     ((('body = "wheelset"', 'body = "bogie"'),), "strategy.body"),
-    ((('kind = "stepwise"', 'kind = "fourier"'),), "'strategy'"),
+    ((('kind = "stepwise"', 'kind = "fourier"'),), "strategy.step_limit_um"),
     ((("lateral_cells = 90", "lateral_cells = 1"),), "wheelset_wear.lateral_cells"),
     ((("transient_s = 2.0", "transient_s = -1.0"),), "wheelset_wear.transient_s"),
     ((("lateral_max_mm = 40.0", "lateral_max_mm = -60.0"),), "lateral_min_mm must be below"),
