@@ -21,6 +21,7 @@ from railwear.errors import OptionError, ScenarioError
 from railwear.geometry import bands, roundness
 from railwear.geometry.roundness import ROUGHNESS_REFERENCE
 from railwear.longterm.phenomenological import Phenomenological
+from railwear.longterm.spectra import UNDEFINED
 from railwear.measured import ANGLE_UNITS, BLANK, DEVIATION_UNITS, NUMBER, read_measured, read_table
 from railwear.scenario import Scenario, load_scenario, scenario_hash, to_toml
 from railwear.scenario.schema import Solver
@@ -208,6 +209,18 @@ def draw_conditions(scenario: Scenario):
     return np.maximum(speed, 1.0), np.maximum(load, 1e-3), friction
 
 
+NOT_REACHED = "the limit is not reached within the horizon (the distance is beyond it)"
+ROUND = ("no out-of-round where the limit applies (a round wheel, or no amplitude in the orders or bands it "
+         "names): its level would be -inf dB")
+NO_ENERGY = "the measured wheel has no out-of-round in the band: its level would be -inf dB"
+
+
+def _undefined(values, reason):
+    """The attributes of a forecast variable: :data:`UNDEFINED` ``reason`` where ``values`` are
+    not finite (written masked; in memory they keep their ``inf``), else none."""
+    return {} if np.all(np.isfinite(values)) else {UNDEFINED: reason}
+
+
 NO_SCATTER = ("the scenario's [service] gives every sample the same speed, load and friction: the "
               "forecast is one distance and its '90 % band' has no width (set speed_scatter_kmh, "
               "load_scatter or friction_range, or more than one speed peak)")
@@ -326,9 +339,11 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
     variables = {
         "peak_to_peak": (("sample", "distance"), ptp, {"units": "m", "long_name": "peak-to-peak radius deviation"}),
         "excess": (("sample", "distance"), excess,
-                   {"units": "dB", "long_name": f"largest level above the limit ({limit.name})"}),
+                   {"units": "dB", "long_name": f"largest level above the limit ({limit.name})",
+                    **_undefined(excess, ROUND)}),
         "crossing_distance": (("sample",), cross,
-                              {"units": "km", "long_name": "distance until the limit is reached (inf: not within the horizon)"}),
+                              {"units": "km", "long_name": "distance until the limit is reached (inf: not within the horizon)",
+                               **_undefined(cross, NOT_REACHED)}),
         "dominant_order": (("sample",), orders,
                            {"units": "1", "long_name": "dominant polygon order at the crossing (at the horizon if none)"}),
         **{name: (("sample",), v.values, dict(v.attrs)) for name, v in _speeds(speed).items()},
@@ -336,7 +351,8 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
         "friction_coefficient": (("sample",), friction, {"units": "1", "long_name": "friction coefficient"}),
         "u_initial": (("angle",), u0, {"units": "m", "long_name": "measured radius deviation on the grid"}),
         "measured_band_level": (("band",), levels.level,
-                                {"units": "dB", "long_name": "one-third-octave band level of the measured wheel, re 1 um"}),
+                                {"units": "dB", "long_name": "one-third-octave band level of the measured wheel, re 1 um",
+                                 **_undefined(levels.level, NO_ENERGY)}),
         "band_resolved": (("band",), levels.resolved.astype(np.int8),
                           {"units": "1", "long_name": "1 where the band is at most a quarter of the circumference"}),
     }
@@ -357,6 +373,9 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
              "measured_dominant_amplitude_m": state["dominant_amplitude"],
              "measured_dominant_level_db": state["dominant_level"], "wheel_diameter_m": diameter,
              "scenario": to_toml(scenario), "scenario_hash": scenario_hash(scenario)}
+    for key in ("initial_excess_db", "measured_dominant_level_db"):  # -inf dB of a round wheel: no level
+        if not np.isfinite(attrs[key]):
+            del attrs[key]
     if limit.kind == "peak_to_peak":
         attrs["limit_m"] = limit.peak_to_peak
     else:
@@ -427,12 +446,16 @@ def measured_text(ds):
     a = ds.attrs
     if "measured_peak_to_peak_m" not in a:
         return ""
-    lines = [f"measured wheel: {a['measured_peak_to_peak_m'] / UM:.1f} um peak to peak, dominant order "
-             f"{a['measured_dominant_order']} ({a['measured_dominant_amplitude_m'] / UM:.1f} um amplitude, "
-             f"{a['measured_dominant_level_db']:.1f} dB re 1 um)"]
+    if "measured_dominant_level_db" in a:
+        lines = [f"measured wheel: {a['measured_peak_to_peak_m'] / UM:.1f} um peak to peak, dominant order "
+                 f"{a['measured_dominant_order']} ({a['measured_dominant_amplitude_m'] / UM:.1f} um amplitude, "
+                 f"{a['measured_dominant_level_db']:.1f} dB re 1 um)"]
+    else:
+        lines = [f"measured wheel: {a['measured_peak_to_peak_m'] / UM:.1f} um peak to peak, round: no polygon order "
+                 "has an amplitude"]
     level = ds.measured_band_level.values
     if np.isfinite(level).any():
-        keep = level >= np.max(level) - ECHO_RANGE
+        keep = level >= np.max(level[np.isfinite(level)]) - ECHO_RANGE
         cells = [(f"{_wavelength(w)} {v:.1f}" if r else f"({_wavelength(w)} {v:.1f})")
                  for w, v, r, k in zip(ds.band.values, level, ds.band_resolved.values, keep) if k]
         lines.append(f"  band levels, dB re 1 um (EN 15610, diameter {a['wheel_diameter_m'] / MM:g} mm; in brackets "
@@ -454,7 +477,10 @@ def report(ds):
         lines.append(f"  already above the limit at 0 km{over}{f' ({where})' if where else ''}: "
                      "the wheel is due for re-profiling now")
     elif a["fraction_crossed"] == 0:
-        closest = f"; the closest sample ends {-np.max(excess[:, -1]):.1f} dB under it" if excess is not None else ""
+        closest = ""
+        if excess is not None:
+            closest = (f"; the closest sample ends {-np.max(excess[:, -1]):.1f} dB under it"
+                       if np.isfinite(np.max(excess[:, -1])) else "; every sample ends round")
         lines.append(f"  no sample reaches the limit within the horizon of {horizon:,.0f} km "
                      f"({samples} samples){closest}; dominant order at {horizon:,.0f} km: {a['dominant_order']}")
     else:

@@ -79,8 +79,28 @@ def _readable(path, what):
     return path
 
 
+FILL_VALUE = 9.969209968386869e36  # netCDF's default fill of a double: where a statistic is undefined
+
+
+def masked_for_writing(ds: xr.Dataset):
+    """``ds`` with each float variable that says why it has no value somewhere (its
+    :data:`~railwear.longterm.spectra.UNDEFINED` attribute) encoded with ``_FillValue``
+    :data:`FILL_VALUE`: its NaN and ±inf are written as the fill, and read back as NaN."""
+    from railwear.longterm.spectra import UNDEFINED
+
+    out = ds.copy()
+    for name, var in ds.data_vars.items():
+        if UNDEFINED in var.attrs and var.dtype.kind == "f":
+            values = np.asarray(var.values)
+            out[name] = var.copy(data=np.where(np.isfinite(values), values, np.nan))
+            out[name].encoding = {**var.encoding, "_FillValue": FILL_VALUE}
+    return out
+
+
 def write_netcdf(ds: xr.Dataset, path):
-    """Write ``ds`` as netCDF 4 (h5netcdf) to ``path`` without ever leaving a half-written file."""
+    """Write ``ds`` as netCDF 4 (h5netcdf) to ``path`` without ever leaving a half-written file;
+    undefined statistics are masked (:func:`masked_for_writing`)."""
+    ds = masked_for_writing(ds)
     return _atomic(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=False))
 
 
@@ -149,7 +169,7 @@ def summary(ds: xr.Dataset):
     if ds.attrs.get("body") in BODY_SUMMARIES:
         return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
                 "railwear_version": ds.attrs.get("railwear_version", ""),
-                "runs": [BODY_SUMMARIES[ds.attrs["body"]](ds)]}
+                "runs": [_defined(BODY_SUMMARIES[ds.attrs["body"]](ds))]}
     batch = [d for d in ds.regime.dims]
 
     def rows():
@@ -181,9 +201,9 @@ def summary(ds: xr.Dataset):
         life = float(ds.attrs.get("life_distance_km", 0.0))
         if life > 0 and entry["leading_order"] > 0:
             rate = float(d.growth_rate.sel(order=entry["leading_order"]))
-            entry["leading_growth_per_10000_km"] = float(np.expm1(rate * PER_10000_KM / life))
+            entry["leading_growth_per_10000_km"] = _growth_per_10000_km(rate, life)
         entry.update(_polygon(d, entry, life))
-        out.append(entry)
+        out.append(_defined(entry))
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
             "railwear_version": ds.attrs.get("railwear_version", ""), "runs": out}
 
@@ -198,11 +218,32 @@ def _polygon(d, entry, life):
         out.update(wavelength_mm=circumference / n / MM, passing_frequency_hz=n * float(d.speed) / circumference)
         if life > 0:
             rate = float(d.growth_rate.sel(order=n))
-            out["dominant_growth_per_10000_km"] = float(np.expm1(rate * PER_10000_KM / life))
+            out["dominant_growth_per_10000_km"] = _growth_per_10000_km(rate, life)
     if "peak_to_peak_limit" in d:
         limit = float(d.peak_to_peak_limit)
         out["peak_to_peak_limit_mm"] = limit / MM
         out["limit_distance_km"] = entry["distance_km"] if float(d.peak_to_peak) >= limit * (1 - 1e-9) else None
+    return out
+
+
+def _growth_per_10000_km(rate, life):
+    """Growth (fraction) over 10 000 km of ln-rate ``rate`` per unit normed time of ``life`` km;
+    ``inf`` past the float range (undefined in the summary)."""
+    with np.errstate(over="ignore"):
+        return float(np.expm1(rate * PER_10000_KM / life))
+
+
+def _defined(entry):
+    """``entry`` without its numbers that are not finite (an undefined statistic), which
+    ``undefined`` lists by name; strict JSON has no NaN."""
+    def finite(v):
+        items = v if isinstance(v, list) else [v]
+        return all(np.isfinite(x) for x in items if isinstance(x, (float, np.floating)))
+
+    undefined = [k for k, v in entry.items() if not finite(v)]
+    out = {k: v for k, v in entry.items() if k not in undefined}
+    if undefined:
+        out["undefined"] = undefined
     return out
 
 
@@ -223,17 +264,18 @@ def summary_text(s):
                 f"to {r['contact_range_mm'][1]:.1f} mm; {r['steps']} steps, {r['cost_seconds_simulated']:g} s "
                 f"simulated, {r['cost_tables']} contact tables")
             continue
+        growth = (f"x{r['out_of_round_growth_factor']:.2f}" if "out_of_round_growth_factor" in r else "growth undefined")
+        leading = (f"fastest order present at the start {r['leading_order']} (x{r['leading_growth_factor']:.2f}"
+                   + _growth_text(r, "leading_growth_per_10000_km") + ")" if r["leading_order"] > 0 else
+                   "no order present at the start has a defined growth rate")
         lines.append(
             f"  {r['speed_kmh']:g} km/h: {r['regime']}, {r['maxima']} maxima, dominant order "
             f"{r['dominant_order']}, removed {r['max_removed_depth_mm']:.3f} mm at the most worn "
             f"spot ({r['mean_removed_depth_mm']:.3f} mm mean) after {r['distance_km']:.0f} km; "
             f"peak-to-peak {r['peak_to_peak_initial_um']:.1f} -> {r['peak_to_peak_um']:.1f} um; "
-            f"out-of-round rms x{r['out_of_round_growth_factor']:.2f} over the run, fastest order present "
-            f"at the start {r['leading_order']} (x{r['leading_growth_factor']:.2f}"
-            + (f", {r['leading_growth_per_10000_km']:+.0%} per 10 000 km)" if "leading_growth_per_10000_km" in r else ")"))
+            f"out-of-round rms {growth} over the run, {leading}")
         if "wavelength_mm" in r:
-            growth = (f", {r['dominant_growth_per_10000_km']:+.0%} per 10 000 km"
-                      if "dominant_growth_per_10000_km" in r else "")
+            growth = _growth_text(r, "dominant_growth_per_10000_km")
             lines.append(f"  order-{r['dominant_order']} polygon: wavelength {r['wavelength_mm']:.0f} mm on the tread, "
                          f"passing at {r['passing_frequency_hz']:.1f} Hz{growth}")
         if "peak_to_peak_limit_mm" in r:
@@ -243,10 +285,19 @@ def summary_text(s):
     return "\n".join(lines) + "\n"
 
 
+def _growth_text(r, key):
+    """``, +20% per 10 000 km`` for the growth ``r[key]``; 'undefined' where the summary lists it
+    as undefined, nothing where it has none."""
+    if key in r:
+        return f", {r[key]:+.0%} per 10 000 km"
+    return ", growth per 10 000 km undefined" if key in r.get("undefined", ()) else ""
+
+
 def write_summary(ds, directory):
-    """``summary.json`` and ``summary.txt`` in ``directory``; returns the summary."""
+    """``summary.json`` (strict JSON) and ``summary.txt`` in ``directory``; returns the summary."""
     s = summary(ds)
-    write_text(json.dumps(s, indent=2, default=lambda o: o.item() if isinstance(o, np.generic) else str(o)),
+    write_text(json.dumps(s, indent=2, allow_nan=False,
+                          default=lambda o: o.item() if isinstance(o, np.generic) else str(o)),
                Path(directory) / "summary.json")
     write_text(summary_text(s), Path(directory) / "summary.txt")
     return s

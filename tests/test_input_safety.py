@@ -194,7 +194,10 @@ def test_leftover_temporaries_are_cleaned_and_never_read(tmp_path):
     assert results.clean_partial(out) == [dead.name]
     assert alive.exists() and not dead.exists()
     dead.write_bytes(b"half a file")
-    refused(["resume", out], "no checkpoint")
+    result = CliRunner().invoke(app, ["resume", str(out)])
+    notice, error = result.output.splitlines()  # what was removed is said, then the one-line refusal
+    assert result.exit_code == 2 and "removed 1 temporary file(s)" in notice and dead.name in notice
+    assert error.startswith("railwear: error:") and "no checkpoint" in error
     assert not dead.exists()
 
 

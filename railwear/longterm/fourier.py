@@ -19,7 +19,7 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from railwear.errors import ScenarioError
+from railwear.errors import NumericalInstabilityError, ScenarioError
 from railwear.longterm.base import Strategy, checked_start, stop_time, time_coordinates
 from railwear.longterm.spectra import describe
 from railwear.units import KM, MM
@@ -94,26 +94,32 @@ class Fourier:
         evolved = np.empty((t.size, spectrum.size), complex)
         evolved[:, 0] = spectrum[0] + n * self.mean_rate * t
         # Fourier coefficients of Re(û e^{inx}) in numpy's e^{+inx} convention grow with e^{λ t}.
-        evolved[:, 1:] = spectrum[None, 1:] * np.exp(np.outer(t, self.rates(np.arange(1, spectrum.size))))
-        return np.fft.irfft(evolved, n, axis=-1)
+        with np.errstate(over="ignore", invalid="ignore"):  # an overflow is for the caller's guard to report
+            evolved[:, 1:] = spectrum[None, 1:] * np.exp(np.outer(t, self.rates(np.arange(1, spectrum.size))))
+            return np.fft.irfft(evolved, n, axis=-1)
 
     def run(self, u0, duration, n_save=101, depth_limit=None, peak_to_peak_limit=None):
         """``u(x, t)`` (m) from ``u0`` over ``duration`` seconds of running, stopping where the
         most worn spot has lost ``depth_limit`` (m) or the wheel is ``peak_to_peak_limit`` (m) out
-        of round, found by bisection on the exact solution."""
+        of round, found by bisection on the exact solution. A state that is not finite (a harmonic
+        overflowed before a limit stopped the run, or a rate is not finite) raises
+        :class:`NumericalInstabilityError` with the last finite saved state and its time (s)."""
         if not duration > 0:
             raise ScenarioError("duration must be > 0 (s)")
         u0 = np.asarray(u0, float)
         if peak_to_peak_limit is not None and np.ptp(u0) >= peak_to_peak_limit:
             raise ScenarioError(f"solver.peak_to_peak_limit_mm: the wheel starts {np.ptp(u0) / MM:.4g} mm out of "
                                 f"round, above the limit {peak_to_peak_limit / MM:.4g} mm")
+        limited = depth_limit is not None or peak_to_peak_limit is not None
 
         def reached(u):
-            hit = np.zeros(len(u), bool)
-            if depth_limit is not None:
-                hit |= np.max(u0[None, :] - u, axis=1) >= depth_limit
-            if peak_to_peak_limit is not None:
-                hit |= np.ptp(u, axis=1) >= peak_to_peak_limit
+            # An overflowed harmonic has passed either limit; the bisection finds where, finite.
+            hit = ~np.all(np.isfinite(u), axis=1) if limited else np.zeros(len(u), bool)
+            with np.errstate(invalid="ignore"):
+                if depth_limit is not None:
+                    hit |= np.max(u0[None, :] - u, axis=1) >= depth_limit
+                if peak_to_peak_limit is not None:
+                    hit |= np.ptp(u, axis=1) >= peak_to_peak_limit
             return hit
 
         t = np.linspace(0.0, duration, n_save)
@@ -131,6 +137,7 @@ class Fourier:
         n = u.shape[1]
         orders = np.arange(1, n // 2 + 1)
         lam = self.rates(orders)
+        self._check_finite(u, t, lam, orders)
         return xr.Dataset(
             {"u": (("time", "angle"), u, {"units": "m", "long_name": "radius deviation from the nominal radius"}),
              "growth_rate": (("order",), lam.real, {"units": "s-1", "long_name": "growth rate of the harmonic"}),
@@ -142,6 +149,24 @@ class Fourier:
                     "order": ("order", orders, {"units": "1", "long_name": "polygon order"})},
             attrs={"strategy": "Fourier technique for linear dynamics (Brommundt)", "stop_seconds": stop},
         )
+
+    def _check_finite(self, u, t, lam, orders):
+        """Raise :class:`NumericalInstabilityError` at the first saved state ``u`` (m) at times
+        ``t`` (s) that is not finite, naming the fastest rate ``lam`` (1/s) and its order."""
+        bad = ~np.all(np.isfinite(u), axis=1)
+        if not bad.any():
+            return
+        k = int(np.argmax(bad))
+        finite = np.isfinite(lam)
+        if not finite.all():
+            why = f"the growth rate of order {int(orders[np.argmin(finite)])} is not finite"
+        else:
+            i = int(np.argmax(lam.real))
+            why = (f"order {int(orders[i])} grows at {lam.real[i]:.3g} 1/s and its amplitude overflowed by "
+                   f"{t[k] * self.speed / KM:.4g} km with no limit reached")
+        good = max(k - 1, 0)
+        raise NumericalInstabilityError(f"the Fourier solution is not finite: {why}",
+                                        last_good=u[good], last_time=float(t[good]))
 
     @classmethod
     def disk_wheel(cls, model, law, band_width, driver="frictional_power"):
@@ -191,8 +216,12 @@ class FourierStrategy(Strategy, name="fourier"):
         solution is exact, so there is nothing to checkpoint or resume and ``checkpoint`` and
         ``resume`` are not used."""
         speed = self.fourier.speed
-        ds = self.fourier.run(checked_start(u0, until, depth_limit), until * self.life_distance / speed,
-                              self.n_save, depth_limit, self.peak_to_peak_limit)
+        try:
+            ds = self.fourier.run(checked_start(u0, until, depth_limit), until * self.life_distance / speed,
+                                  self.n_save, depth_limit, self.peak_to_peak_limit)
+        except NumericalInstabilityError as e:  # its time in seconds, the strategy's in normed time
+            raise NumericalInstabilityError(str(e), last_good=e.last_good,
+                                            last_time=e.last_time * speed / self.life_distance) from None
         seconds = ds.time.values
         ds = ds.drop_vars(["time", "distance"]).assign_coords(
             time_coordinates(seconds * speed / self.life_distance, self.life_distance, speed))

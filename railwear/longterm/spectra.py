@@ -7,6 +7,30 @@ from railwear.errors import ModelRangeError
 from railwear.geometry import roundness
 
 ROUND_OFF = 1e4 * np.finfo(float).eps  # of the largest |u|: a mean below -this is a gain, not round-off
+UNDEFINED = "undefined_because"  # attribute of a statistic: why its masked (NaN) entries have no value
+TOO_SHORT = "the run is too short to fit a rate: its saved times do not differ, so the order did not change over the run"
+FEW_TIMES = "fewer than 3 saved times: no scatter about the fit to estimate its error from"
+ALTERNATING = "order N/2 alternates from point to point round the wheel and is not fitted"
+NO_AMPLITUDE = "the amplitude of the order is zero at a saved time: no out-of-round in it to grow"
+NO_LEVEL = "the amplitude of the order is zero at the end: its level would be -inf dB"
+ROUND = "no out-of-round left: the wheel is round at a saved time"
+
+
+def masked(values, causes):
+    """``(values, attrs)``: ``values`` with NaN wherever not finite, and ``attrs`` naming why in
+    :data:`UNDEFINED` (empty when all are finite). ``causes`` are ``(reason, where)`` in order of
+    precedence, ``where`` a boolean broadcastable to ``values``; a masked entry takes the first
+    reason that holds there (the last cause should hold everywhere)."""
+    values = np.asarray(values, float)
+    values = np.where(np.isfinite(values), values, np.nan)
+    left = np.isnan(values)
+    reasons = []
+    for reason, where in causes:
+        hit = left & np.broadcast_to(where, values.shape)
+        if hit.any():
+            reasons.append(reason)
+            left &= ~hit
+    return values, ({UNDEFINED: "; ".join(reasons)} if reasons else {})
 
 
 def _label(da, dim, i):
@@ -42,7 +66,9 @@ def check_no_gain(u, mean_removed):
 
 
 def describe(ds: xr.Dataset):
-    """Add removed depth over time and the initial and final polygon spectra to a solution."""
+    """Add removed depth over time, the initial and final polygon spectra and the fitted growth
+    to a solution. A statistic without a value somewhere (a rate of an order that is absent, the
+    level of a zero amplitude) is NaN there, and its :data:`UNDEFINED` attribute says why."""
     u = ds.u
     batch = [d for d in u.dims if d not in ("time", "angle")]
     u0, u_end = u.isel(time=0), u.isel(time=-1)
@@ -68,8 +94,9 @@ def describe(ds: xr.Dataset):
                        {"units": "m", "long_name": "harmonic amplitude at the end"})
     ds["amplitude_initial"] = (dims_order, per_row("amplitude", 0),
                                {"units": "m", "long_name": "harmonic amplitude at the start"})
-    ds["roughness_level"] = (dims_order, per_row("roughness_level", 1),
-                             {"units": "dB", "long_name": "roughness level per order at the end, re 1 um rms"})
+    level, undefined = masked(per_row("roughness_level", 1), [(NO_LEVEL, True)])
+    ds["roughness_level"] = (dims_order, level, {"units": "dB", "long_name": "roughness level per order at the end, "
+                                                                          "re 1 um rms", **undefined})
     ds["dominant_order"] = (tuple(batch), per_row("dominant_order", 1),
                             {"units": "1", "long_name": "order of the largest harmonic at the end"})
     ds["maxima"] = (tuple(batch), per_row("maxima", 1),
@@ -80,7 +107,11 @@ def describe(ds: xr.Dataset):
     times = ds.time.values
     stops = np.broadcast_to(np.asarray(ds.stop_time.values, float), shape).ravel() if "stop_time" in ds else \
         np.full(len(rows), times[-1])
-    fits = [roundness.growth(times[times <= stop], r[times <= stop]) for r, stop in zip(rows, stops)]
+    windows = [times <= stop for stop in stops]
+    fitted_times = [times[w] for w in windows]
+    fits = [roundness.growth(times[w], r[w]) for r, w in zip(rows, windows)]
+    short = np.reshape([t.size < 2 or np.sum((t - t.mean()) ** 2) == 0 for t in fitted_times], shape)
+    few = np.reshape([t.size < 3 for t in fitted_times], shape)
 
     def fitted(key):
         return np.array([f[key] for f in fits]).reshape(shape + list(np.shape(fits[0][key])))
@@ -91,15 +122,25 @@ def describe(ds: xr.Dataset):
     error = np.full(shape + [order.size], np.nan)
     error[..., :top] = fitted("order_rate_error")
     per_time = "per unit normed time"
-    ds["growth_rate"] = (dims_order, rate, {"units": "1", "long_name": f"fitted growth rate of ln amplitude, {per_time}"})
-    ds["growth_rate_error"] = (dims_order, error, {"units": "1", "long_name": "standard error of the growth rate"})
+    alternating = np.arange(order.size) >= top
+    rate, undefined = masked(rate, [(TOO_SHORT, short[..., None]), (ALTERNATING, alternating), (NO_AMPLITUDE, True)])
+    ds["growth_rate"] = (dims_order, rate, {"units": "1", "long_name": f"fitted growth rate of ln amplitude, {per_time}",
+                                            **undefined})
+    error, undefined = masked(error, [(TOO_SHORT, short[..., None]), (ALTERNATING, alternating),
+                                      (NO_AMPLITUDE, np.isnan(rate)), (FEW_TIMES, True)])
+    ds["growth_rate_error"] = (dims_order, error, {"units": "1", "long_name": "standard error of the growth rate",
+                                                   **undefined})
     scalars = {"out_of_round_growth_rate": ("rms_rate", f"fitted growth rate of the out-of-round rms, {per_time}"),
                "out_of_round_growth_rate_error": ("rms_rate_error", "standard error of that rate"),
                "out_of_round_growth_factor": ("rms_factor", "exp(rate x run): growth of the out-of-round rms"),
                "leading_order": ("leading_order", "fastest-growing order of those present at the start"),
                "leading_growth_factor": ("leading_factor", "exp(rate x run) of the leading order")}
+    rms_rate = fitted("rms_rate")
     for name, (key, long_name) in scalars.items():
-        ds[name] = (tuple(batch), fitted(key), {"units": "1", "long_name": long_name})
+        values, undefined = fitted(key), {}
+        if name.startswith("out_of_round_"):
+            values, undefined = masked(values, [(TOO_SHORT, short), (ROUND, ~np.isfinite(rms_rate)), (FEW_TIMES, True)])
+        ds[name] = (tuple(batch), values, {"units": "1", "long_name": long_name, **undefined})
     regimes = np.array([roundness.regime(f) for f in fits], dtype=object).reshape(shape)
     ds["regime"] = (tuple(batch), regimes.astype(str),
                     {"long_name": "wear regime (stable, smoothing, onset, polygonalising)",
