@@ -24,6 +24,7 @@ from railwear.contact.saturation import (
     POLACH_DRY,
     POLACH_WET,
     SaturatedForces,
+    inverse_cubic,
     polach,
     shen_hedrick_elkins,
 )

@@ -12,6 +12,10 @@ Polach (Vehicle System Dynamics 33 suppl. (1999) 728; Wear 258 (2005) 992): with
 
 and friction falling with the slip velocity ``w = s V``: ``μ = μ0 ((1 - A) exp(-B w) + A)``.
 At small creepage and ``kA = kS = 1`` this is Kalker's linear theory. Spin is not included here.
+
+The inverse of the cubic law for a longitudinal force demand (:func:`inverse_cubic`): with
+``β = k ξ / (μN)`` (``k`` Kalker's creep stiffness) the law reads ``F/(μN) = 1 - (1 - ξ/ξ_s)³``,
+``ξ_s = 3 μN / k`` the saturation creepage, so ``ξ = ξ_s (1 - (1 - F/(μN))^(1/3))``.
 """
 
 from dataclasses import dataclass
@@ -21,7 +25,7 @@ import numpy as np
 from railwear.contact._checks import as_float_array, non_negative, positive, scalar_or_array
 from railwear.contact.kalker import kalker_coefficients
 
-__all__ = ["SaturatedForces", "shen_hedrick_elkins", "polach", "POLACH_DRY", "POLACH_WET"]
+__all__ = ["SaturatedForces", "shen_hedrick_elkins", "inverse_cubic", "polach", "POLACH_DRY", "POLACH_WET"]
 
 # Polach (2005), parameters fitted to locomotive measurements, dry and wet rail. B in s/m.
 POLACH_DRY = {"kA": 1.00, "kS": 0.40, "mu0": 0.55, "A": 0.40, "B": 0.60}
@@ -59,6 +63,16 @@ def shen_hedrick_elkins(Fx, Fy, normal_force, mu, Mz=0.0):
         Fx=scalar_or_array(Fx * scale), Fy=scalar_or_array(Fy * scale), Mz=scalar_or_array(Mz * scale),
         mu=scalar_or_array(mu + 0.0 * F),
     )
+
+
+def inverse_cubic(force, limit):
+    """The creepage at which the cubic law's force reaches the demand ``force`` (N, >= 0) under
+    ``limit = μN`` (N, > 0), as a fraction of the saturation creepage ``ξ_s = 3 μN / k``:
+    ``(q, r)`` with ``q = min(F/(μN), 1)`` and ``r = ξ/ξ_s = 1 - (1 - q)^(1/3)``. At ``q = 1`` (a
+    demand at or above ``μN``) the wheel slides at ``ξ_s`` under ``μN`` (``r = 1``). Vectorised;
+    the caller multiplies by its ``ξ_s``."""
+    q = np.minimum(force / limit, 1.0)
+    return q, 1 - np.cbrt(1 - q)
 
 
 def polach(a, b, normal_force, xi, eta, shear_modulus, poisson, mu0=None, speed=0.0,

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from railwear.contact.saturation import inverse_cubic
 from railwear.errors import ScenarioError
 from railwear.longterm.base import Strategy, checked_start
 from railwear.longterm.fourier import Fourier, contact_filter
@@ -40,7 +41,8 @@ def frictional_power_at_load(wheel, load):
     :class:`~railwear.dynamics.DiskWheelModel` with the cubic creep law) at the normal force
     ``load`` (N) under its traction demand ``F = T / R0``: ``ξ = (3 μ N / f11(N)) (1 - (1 - q)^(1/3))``
     with ``q = |F| / (μ N)`` and ``f11(N) = f11 (N/W)^(2/3)`` (the inverse of the kernel's creep
-    law); at ``q >= 1`` the wheel slides at ``3 μ N / f11(N)`` under ``μ N``; 0 for ``N <= 0``."""
+    law, :func:`~railwear.contact.inverse_cubic`); at ``q >= 1`` the wheel slides at
+    ``3 μ N / f11(N)`` under ``μ N``; 0 for ``N <= 0``."""
     if wheel.creep_law != "cubic":
         raise ScenarioError("the load nonlinearity needs the cubic creep law")
     demand = abs(wheel.traction_torque / wheel.radius)
@@ -51,8 +53,8 @@ def frictional_power_at_load(wheel, load):
     if not np.isfinite(wheel.friction_coefficient):
         return np.where(on, demand**2 / f11 * wheel.speed, 0.0)
     limit = wheel.friction_coefficient * safe
-    q = np.minimum(demand / limit, 1.0)
-    creepage = 3 * limit / f11 * (1 - np.cbrt(1 - q))
+    q, fraction = inverse_cubic(demand, limit)
+    creepage = 3 * limit / f11 * fraction
     return np.where(on, q * limit * creepage * wheel.speed, 0.0)
 
 

@@ -103,7 +103,11 @@ class DiskContact(BuiltinRate):
         return self.specific_wear * self.life_distance / (self.density * area)
 
     def frictional_energy(self, normal_force):
-        """Frictional energy per metre rolled ``Tγ`` under a steady load (J/m = N)."""
+        """Frictional energy per metre rolled ``Tγ`` under a steady load (J/m = N): ``F ξ`` with
+        ``ξ = ξ_s (1 - (1 - F/(μN))^(1/3))``, ``ξ_s = 3 μN / k(N)`` (the inverse cubic law,
+        :func:`~railwear.contact.inverse_cubic`), ``μN ξ_s`` where the wheel slides."""
+        from railwear.contact.saturation import inverse_cubic
+
         N = np.asarray(normal_force, float)
         F = self.traction_coefficient * self.static_load
         mu = self.friction_coefficient
@@ -111,8 +115,9 @@ class DiskContact(BuiltinRate):
         k = self.creep_stiffness * (Np / self.static_load) ** (2 / 3)
         saturation_creepage = 3 * mu * Np / k
         sliding = N * mu <= F
-        ratio = np.where(sliding, 1.0, F / np.maximum(mu * Np, F))
-        adhesion = F * saturation_creepage * (1 - np.cbrt(1 - ratio))
+        with np.errstate(over="ignore"):  # F / (μ N) past the float range where N is ~0: q = 1
+            _, fraction = inverse_cubic(F, mu * Np)
+        adhesion = F * saturation_creepage * fraction
         energy = np.where(sliding, mu * Np * saturation_creepage, adhesion)
         return np.where(N > 0, energy, 0.0)
 

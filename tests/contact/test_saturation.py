@@ -1,7 +1,8 @@
 import numpy as np
 import pytest
 
-from railwear.contact import POLACH_DRY, POLACH_WET, linear_creep_forces, polach, shen_hedrick_elkins
+from railwear.contact import (POLACH_DRY, POLACH_WET, inverse_cubic, linear_creep_forces, polach,
+                              shen_hedrick_elkins)
 from railwear.errors import ScenarioError
 
 A, B, G, NU, N = 6e-3, 8e-3, 8.1e10, 0.28, 1.0e5
@@ -20,6 +21,25 @@ def test_she_limits_and_smoothness():
     d = np.diff(sat) / np.diff(F)
     k = np.searchsorted(F, 3 * mu * N)
     assert abs(d[k - 1]) < 1e-3
+
+
+def test_inverse_cubic_inverts_the_cubic_law():
+    """The creepage ``ξ_s r`` of ``inverse_cubic`` gives back the demand through Shen-Hedrick-Elkins'
+    cubic law to 1e-12 below saturation (``k ξ = 3 μN r`` linear force), except at tiny demands,
+    where ``1 - (1 - q)^(1/3)`` cancels: about ``1e-16 / q`` (1e-10 measured at ``q = 1e-6``,
+    1e-9 asserted); at and above ``μN`` the wheel slides at ``ξ_s`` (``q = r = 1``)."""
+    mu, k = 0.3, 9e6  # -, N per unit creepage
+    demand = mu * N * np.array([0.0, 1e-6, 0.1, 0.5, 0.9, 0.999999, 1.0, 1.7])
+    q, r = inverse_cubic(demand, mu * N)
+    xi = 3 * mu * N / k * r
+    force = shen_hedrick_elkins(k * xi, 0.0, N, mu).Fx
+    tiny = np.arange(demand.size) == 1
+    np.testing.assert_allclose(force[~tiny], np.minimum(demand, mu * N)[~tiny], rtol=1e-12, atol=0)
+    np.testing.assert_allclose(force[tiny], demand[tiny], rtol=1e-9)
+    np.testing.assert_array_equal(q[-2:], 1.0)
+    np.testing.assert_array_equal(r[-2:], 1.0)
+    # far from saturation the creepage is Kalker's linear F / k (to first order in F/μN: 1e-6 here)
+    assert xi[1] == pytest.approx(demand[1] / k, rel=1e-6)
 
 
 def test_she_keeps_direction_and_scales_moment():
