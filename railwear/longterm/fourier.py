@@ -3,9 +3,10 @@
 A harmonic ``Re(û_n e^{i n x})`` of the radius deviation passes under the contact at the angular
 frequency ``ω_n = n Ω`` (``Ω`` the wheel's angular velocity). Averaged over the patch (the contact
 filter ``F_n = sin(n δ) / (n δ)``, ``δ`` the patch half-length over the radius) it drives the
-wear driver ``D`` (normal force or frictional power) through the linear transfer function
-``H(ω)``; the wear law turns ``D`` into a depth rate ``c D`` at the point in contact, spread over
-the patch again (``F_n`` once more). So each harmonic evolves on its own:
+wear driver ``D`` (the wear law's, :meth:`~railwear.wear.WearLaw.linearisation`: the frictional
+power for the energy law) through the linear transfer function ``H(ω)``; the wear law turns ``D``
+into a depth rate ``c D`` at the point in contact, spread over the patch again (``F_n`` once
+more). So each harmonic evolves on its own:
 
     d û_n / dt = λ_n û_n,   λ_n = -c H(n Ω) F_n²
 
@@ -23,11 +24,68 @@ from railwear.errors import NumericalInstabilityError, ScenarioError
 from railwear.longterm.base import Strategy, checked_start, stop_time, time_coordinates
 from railwear.longterm.spectra import describe
 from railwear.units import KM, MM
+from railwear.wear import ContactSample, WearLaw
 
 
 def contact_filter(orders, half_angle):
     """Mean of ``e^{i n x}`` over ``|x| <= half_angle`` (rad): ``sin(n δ)/(n δ)``."""
     return np.sinc(np.asarray(orders, float) * half_angle / np.pi)
+
+
+def operating_point(model, band_width):
+    """The contact of steady rolling on the round wheel, as the disk-wheel body samples it
+    (:func:`~railwear.longterm.disk_wheel.swept_volume`): frictional power ``π0 = |T/R0 · ξ0| V``
+    (W), the static load ``W`` (N), sliding speed ``|ξ0| V`` (m/s), the speed ``V`` and the patch
+    area ``π a w/2`` (m²: the Hertz half-length ``a``, half the band ``w`` across)."""
+    creepage = model.steady_creepage()
+    return ContactSample(abs(model.traction_torque / model.radius * creepage) * model.speed, model.static_load,
+                         abs(creepage) * model.speed, model.speed, np.pi * model.patch_half_length * band_width / 2)
+
+
+def linearised_laws():
+    """Names of the registered wear laws that give a linearisation."""
+    return [name for name, cls in WearLaw.registry.items() if cls.linearisation is not WearLaw.linearisation]
+
+
+def law_terms(model, law, band_width):
+    """``(linearisation, terms)``: ``law`` (a :class:`~railwear.wear.WearLaw`) about the
+    :func:`operating_point` of ``model``, and its driver's perturbation as a sum over the model's
+    linear outputs, ``D̂ = Σ_o terms[o] ŷ_o`` (``o`` in frictional_power, normal_force, creepage):
+
+        π: ∂D/∂π
+        N: ∂D/∂N + ∂D/∂A (2/3) A0/W      (Hertz: A ∝ N^(2/3), as the bodies take it)
+        ξ: ∂D/∂s sign(ξ0) V              (s = |ξ| V)
+
+    The speed ``V`` is the vehicle's, held. Zero terms are left out. A law without a
+    linearisation is refused, naming ``wear.law``."""
+    point = operating_point(model, band_width)
+    lin = law.linearisation(point) if isinstance(law, WearLaw) else None
+    if lin is None:
+        name = getattr(law, "name", None) or type(law).__name__
+        raise ScenarioError(f"wear.law: a linear strategy (Fourier, multiplier) needs a law with a linearisation "
+                            f"({', '.join(linearised_laws())}), not {name!r}")
+    d = lin.partials
+    load = d.get("normal_force", 0.0)
+    if d.get("patch_area", 0.0):
+        load = load + d["patch_area"] * (2.0 / 3.0) * float(point.patch_area) / model.static_load
+    creepage = d.get("sliding_speed", 0.0) * float(np.sign(model.steady_creepage())) * model.speed
+    terms = {"frictional_power": d.get("frictional_power", 0.0), "normal_force": load, "creepage": creepage}
+    return lin, {o: w for o, w in terms.items() if w != 0.0}
+
+
+def law_transfer(model, terms):
+    """``ω ↦ Σ_o terms[o] H_o(ω)`` (complex, driver per m of filtered radius deviation) from the
+    model's transfer functions ``model.transfer(ω, o)``; a term of weight 1 is the transfer itself."""
+
+    def transfer(w):
+        total = None
+        for output, weight in terms.items():
+            h = np.asarray(model.transfer(w, output), complex)
+            h = h if weight == 1.0 else weight * h
+            total = h if total is None else total + h
+        return np.zeros(np.shape(w), complex) if total is None else total
+
+    return transfer
 
 
 @dataclass(frozen=True)
@@ -169,11 +227,14 @@ class Fourier:
                                         last_good=u[good], last_time=float(t[good]))
 
     @classmethod
-    def disk_wheel(cls, model, law, band_width, driver="frictional_power"):
-        """From a :class:`~railwear.dynamics.DiskWheelModel` linearised about steady rolling.
+    def disk_wheel(cls, model, law, band_width, driver="law"):
+        """From a :class:`~railwear.dynamics.DiskWheelModel` (or a model with its transfer
+        functions) linearised about steady rolling.
 
-        ``driver`` "frictional_power" with an energy law (``c = β / (2π R0 w)``), or
-        "normal_force" with a law ``c`` = ``law`` (m/s per N) given as a number; ``band_width``
+        ``driver`` "law": the driver ``D`` of the wear law ``law`` (a :class:`~railwear.wear.WearLaw`
+        with a linearisation, :func:`law_terms`; the frictional power for the energy law),
+        ``c = κ / (2π R0 w)``, ``D0`` the law's driver at the :func:`operating_point`; or
+        "normal_force" with a law ``c`` = ``law`` (m/s per N) given as a number. ``band_width``
         ``w`` (m) is the lateral width the wear spreads over.
         """
         if not band_width > 0:
@@ -181,20 +242,17 @@ class Fourier:
         creepage = model.steady_creepage()
         omega = model.speed * (1 + creepage) / model.radius
         circumference = 2 * np.pi * model.radius
-        if driver == "frictional_power":
-            if getattr(law, "beta", None) is None:
-                raise ScenarioError("wear.law: the Fourier technique's frictional-power driver needs the energy law")
-            depth_per_driver = law.beta / (circumference * band_width)
-            steady = abs(model.traction_torque / model.radius * creepage) * model.speed
-
-            def transfer(w):
-                return model.transfer(w, "frictional_power")
+        if driver == "law":
+            lin, terms = law_terms(model, law, band_width)
+            depth_per_driver = lin.coefficient / (circumference * band_width)
+            steady = lin.driver
+            transfer = law_transfer(model, terms)
         elif driver == "normal_force":
             depth_per_driver = float(law)
             steady = model.static_load
             transfer = model.contact_force_transfer
         else:
-            raise ScenarioError(f"driver must be 'frictional_power' or 'normal_force', not {driver!r}")
+            raise ScenarioError(f"driver must be 'law' or 'normal_force', not {driver!r}")
         return cls(transfer, steady, depth_per_driver, omega, model.patch_half_length / model.radius,
                    model.speed)
 
@@ -240,7 +298,7 @@ class FourierStrategy(Strategy, name="fourier"):
         return describe(ds.drop_vars("order"))
 
 
-def stability_map(make_model, speeds, orders, law, band_width, driver="frictional_power"):
+def stability_map(make_model, speeds, orders, law, band_width, driver="law"):
     """Growth rate (1/km) of polygon order ``n`` over speed (m/s) for a linear dynamic model.
 
     ``make_model(speed)`` returns the model at a speed. Per kilometre run, so that speeds compare.

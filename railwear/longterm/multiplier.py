@@ -10,10 +10,11 @@ the law selects the orders the dynamics select. The local part is one of:
 - a local law ``h(u_xx)`` (``A_n = -n²``), entering as its :class:`~railwear.pde.multiplier.Remainder`
   (its value and slope at 0 removed: the slope's smoothing is in ``Λ`` already);
 - the contact's own nonlinearity (:func:`load_nonlinearity`): ``w`` the dynamic normal force
-  (``A_n = F_n H_N(nΩ)``, N per m of ``u``) and ``g(w) = -c [P(W + w) - P(W) - P'(W) w]``, ``P``
-  the quasi-static frictional power at the load ``W + w`` under the traction demand (Kalker
-  ``f11 ∝ N^(2/3)``, Johnson-Vermeulen saturation at ``μ N``, nothing below contact loss),
-  spread over the patch (``B_n = F_n``).
+  (``A_n = F_n H_N(nΩ)``, N per m of ``u``) and ``g(w) = -c [D(W + w) - D(W) - D'(W) w]``, ``D``
+  the wear law's driver (:meth:`~railwear.wear.WearLaw.driver_of`; the frictional power ``P``
+  for the energy law) at the quasi-static contact under the load ``W + w`` and the traction
+  demand (:func:`quasi_static_contact`: Kalker ``f11 ∝ N^(2/3)``, Johnson-Vermeulen saturation
+  at ``μ N``, nothing below contact loss), spread over the patch (``B_n = F_n``).
 
 ``grid_points`` puts the filter of the direct strategy's surface grid on the multipliers: it reads
 ``u`` linearly interpolated between nodes (``sinc²(n/N)`` on ``A``) and gathers the wear on whole
@@ -32,17 +33,18 @@ from railwear.longterm.phenomenological import finish, solver_checkpoints
 from railwear.pde import BuiltinRate, Cubic, Pointwise
 from railwear.pde.multiplier import Fixed, Remainder, solve_multiplier
 from railwear.units import MM
+from railwear.wear import ContactSample
 
-LOAD_TABLE_RANGE = 1.5  # the table of P spans W (1 ± this) in load
+LOAD_TABLE_RANGE = 1.5  # the table of D spans W (1 ± this) in load
 
 
-def frictional_power_at_load(wheel, load):
-    """Quasi-static frictional power ``P = |F| ξ V`` (W) of ``wheel`` (a
-    :class:`~railwear.dynamics.DiskWheelModel` with the cubic creep law) at the normal force
-    ``load`` (N) under its traction demand ``F = T / R0``: ``ξ = (3 μ N / f11(N)) (1 - (1 - q)^(1/3))``
-    with ``q = |F| / (μ N)`` and ``f11(N) = f11 (N/W)^(2/3)`` (the inverse of the kernel's creep
-    law, :func:`~railwear.contact.inverse_cubic`); at ``q >= 1`` the wheel slides at
-    ``3 μ N / f11(N)`` under ``μ N``; 0 for ``N <= 0``."""
+def quasi_static_creep(wheel, load):
+    """``(creepage, power)`` of ``wheel`` (a :class:`~railwear.dynamics.DiskWheelModel` with
+    the cubic creep law) at the normal force ``load`` (N) under its traction demand ``F = T / R0``:
+    ``ξ = (3 μ N / f11(N)) (1 - (1 - q)^(1/3))`` with ``q = |F| / (μ N)`` and ``f11(N) = f11
+    (N/W)^(2/3)`` (the inverse of the kernel's creep law, :func:`~railwear.contact.inverse_cubic`;
+    ``|F| / f11(N)`` without saturation); at ``q >= 1`` the wheel slides at ``3 μ N / f11(N)`` under
+    ``μ N``. The frictional power ``P = |F| ξ V`` (W); both 0 where ``N <= 0``."""
     if wheel.creep_law != "cubic":
         raise ScenarioError("the load nonlinearity needs the cubic creep law")
     demand = abs(wheel.traction_torque / wheel.radius)
@@ -51,20 +53,56 @@ def frictional_power_at_load(wheel, load):
     safe = np.where(on, n, 1.0)
     f11 = wheel.f11 * (safe / wheel.static_load) ** (2.0 / 3.0)
     if not np.isfinite(wheel.friction_coefficient):
-        return np.where(on, demand**2 / f11 * wheel.speed, 0.0)
+        creepage = demand / f11
+        return np.where(on, creepage, 0.0), np.where(on, demand**2 / f11 * wheel.speed, 0.0)
     limit = wheel.friction_coefficient * safe
     q, fraction = inverse_cubic(demand, limit)
     creepage = 3 * limit / f11 * fraction
-    return np.where(on, q * limit * creepage * wheel.speed, 0.0)
+    return np.where(on, creepage, 0.0), np.where(on, q * limit * creepage * wheel.speed, 0.0)
 
 
-def load_nonlinearity(wheel, depth_per_driver):
-    """``g(w) = -c [P(W + w) - P(W) - P'(W) w]`` (m/s) over the dynamic load ``w`` (N) as a
-    Hermite table, ``c`` the Fourier technique's ``depth_per_driver`` (m/s per W)."""
+def frictional_power_at_load(wheel, load):
+    """Quasi-static frictional power ``P = |F| ξ V`` (W) of ``wheel`` at the normal force ``load``
+    (N), :func:`quasi_static_creep`; 0 for ``N <= 0``."""
+    return quasi_static_creep(wheel, load)[1]
+
+
+def quasi_static_contact(wheel, load, band_width):
+    """The :class:`~railwear.wear.ContactSample` of ``wheel`` at the normal force ``load`` (N),
+    as the disk-wheel body samples its contact: the frictional power and creepage of
+    :func:`quasi_static_creep`, sliding speed ``|ξ| V`` (m/s), the speed ``V`` and the Hertz patch
+    area ``π a w/2 (N/W)^(2/3)`` (m², ``w`` = ``band_width`` in m); nothing for ``N <= 0``."""
+    creepage, power = quasi_static_creep(wheel, load)
+    n = np.asarray(load, float)
+    area = np.pi * wheel.patch_half_length * band_width / 2 * np.cbrt(np.maximum(n, 0.0) / wheel.static_load) ** 2
+    return ContactSample(power, n, np.abs(creepage) * wheel.speed, np.full(n.shape, float(wheel.speed)), area)
+
+
+@dataclass(frozen=True, eq=False)
+class QuasiStaticDriver:
+    """``N ↦ D``: the driver of the wear ``law`` (:meth:`~railwear.wear.WearLaw.driver_of`) at
+    the :func:`quasi_static_contact` of ``wheel`` under the load ``N`` (N), band ``band_width`` (m)."""
+
+    wheel: object
+    law: object
+    band_width: float
+
+    def __call__(self, load):
+        return np.asarray(self.law.driver_of(quasi_static_contact(self.wheel, load, self.band_width)), float)
+
+
+def load_nonlinearity(wheel, depth_per_driver, driver=None):
+    """``g(w) = -c [D(W + w) - D(W) - D'(W) w]`` (m/s) over the dynamic load ``w`` (N) as a
+    Hermite table, ``c`` the Fourier technique's ``depth_per_driver`` (m/s per unit of ``D``) and
+    ``driver`` ``D(N)`` (a :class:`QuasiStaticDriver`; ``None``: the frictional power
+    :func:`frictional_power_at_load`, the energy law's driver)."""
     W = wheel.static_load
+    if driver is None:
+        def driver(load):
+            return frictional_power_at_load(wheel, load)
 
     def value(w):
-        return -depth_per_driver * frictional_power_at_load(wheel, W + w)
+        return -depth_per_driver * driver(W + w)
 
     def slope(w):
         step = 1e-6 * W
@@ -79,9 +117,11 @@ class Multiplier(Strategy, name="multiplier"):
     ``life_distance`` (m) is one unit of normed time. ``local``: ``None``, a built-in form
     ``h(u_xx)`` (m per unit normed time) or ``"load"``; the load needs ``wheel`` (the
     :class:`~railwear.dynamics.DiskWheelModel` whose contact it is) and ``load_transfer`` (``N̂ /
-    ū`` in N/m at ω in rad/s, the model's ``contact_force_transfer``). ``grid_points``: the surface
-    grid of the direct run to compare with (``None``: no grid filter). ``epsilon``, ``nu`` and
-    ``options`` as for :class:`~railwear.longterm.phenomenological.Phenomenological`.
+    ū`` in N/m at ω in rad/s, the model's ``contact_force_transfer``), with ``load_driver`` the
+    wear law's driver at a load (:class:`QuasiStaticDriver`; ``None``: the frictional power).
+    ``grid_points``: the surface grid of the direct run to compare with (``None``: no grid
+    filter). ``epsilon``, ``nu`` and ``options`` as for
+    :class:`~railwear.longterm.phenomenological.Phenomenological`.
     ``peak_to_peak_limit`` (m): stop where the wheel is that far out of round, peak to peak (the
     crossing bracketed within one ETDRK4 step, :func:`~railwear.pde.multiplier.solve_multiplier`)."""
 
@@ -90,6 +130,7 @@ class Multiplier(Strategy, name="multiplier"):
     local: object = None
     wheel: object = None
     load_transfer: object = None
+    load_driver: object = None
     grid_points: int | None = None
     epsilon: float = 0.0
     nu: float = 0.0
@@ -120,10 +161,11 @@ class Multiplier(Strategy, name="multiplier"):
     def from_model(cls, model, law, band_width, life_distance, **options):
         """The law of a linear wheel model (a :class:`~railwear.dynamics.DiskWheelModel` or a
         :class:`~railwear.longterm.vehicle_track.VehicleTrackModel`) with the contact's load
-        nonlinearity: :meth:`Fourier.disk_wheel` for ``Λ``."""
+        nonlinearity of the wear law ``law`` (one with a linearisation): :meth:`Fourier.disk_wheel`
+        for ``Λ``, :class:`QuasiStaticDriver` for ``g``."""
         wheel = getattr(model, "wheel", model)
         return cls(Fourier.disk_wheel(model, law, band_width), life_distance, "load", wheel,
-                   model.contact_force_transfer, **options)
+                   model.contact_force_transfer, QuasiStaticDriver(wheel, law, band_width), **options)
 
     @property
     def seconds_per_unit(self):
@@ -146,7 +188,7 @@ class Multiplier(Strategy, name="multiplier"):
         filt = contact_filter(orders, f.half_angle)
         a = np.zeros(orders.size, complex)
         a[1:] = filt[1:] * np.asarray(self.load_transfer(orders[1:] * f.wheel_speed), complex) * grid[1:] ** 2
-        table = load_nonlinearity(self.wheel, f.depth_per_driver * scale)
+        table = load_nonlinearity(self.wheel, f.depth_per_driver * scale, self.load_driver)
         return rate, a, filt * grid, Remainder(table, mean)
 
     def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):

@@ -33,7 +33,7 @@ import numpy as np
 from railwear.contact import contact_constants
 from railwear.dynamics import DiskWheelModel
 from railwear.errors import ScenarioError
-from railwear.longterm.fourier import Fourier, contact_filter, stability_map
+from railwear.longterm.fourier import Fourier, contact_filter, law_terms, stability_map
 from railwear.track import Support, Track, rail, receptance
 
 __all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "growth_parts", "METRO",
@@ -165,44 +165,53 @@ class VehicleTrackModel:
         """``N̂ / ū`` [N/m], bay-averaged: ``1 / (α_w + 1/k_c + α)`` at each offset."""
         return self.transfer(angular_frequency, "normal_force")
 
-    def power_sensitivities(self):
+    def power_sensitivities(self, terms=None):
         """``(a, b, D_ξ)`` of the linearised frictional power ``π̂ = a N̂ + b ξ̂``: ``a = ∂π/∂N``
         [m/s] at fixed creepage (Kalker's ``f11 ∝ N^(2/3)`` and the saturation limit ``μN``),
         ``b = ∂π/∂ξ`` [W] at fixed load (``V (F0 + ξ0 ∂F/∂ξ)``, ``2 V F0`` without saturation), and
-        ``D_ξ = ∂ξ/∂ū`` [1/m] at fixed wheel speed (the rolling-radius change, ``Ω0 / V``)."""
+        ``D_ξ = ∂ξ/∂ū`` [1/m] at fixed wheel speed (the rolling-radius change, ``Ω0 / V``).
+        ``terms``: a wear law's driver ``D̂ = t_π π̂ + t_N N̂ + t_ξ ξ̂``
+        (:func:`~railwear.longterm.fourier.law_terms`) in place of ``π̂``: ``a = t_π ∂π/∂N + t_N``,
+        ``b = t_π ∂π/∂ξ + t_ξ`` (``None``: the frictional power, ``t_π = 1``)."""
         _, _, c, d = self._linear
         out = self.LINEAR_OUTPUTS
         n, xi, p = out.index("normal_force"), out.index("creepage"), out.index("frictional_power")
-        return float(c[p, 2] / c[n, 2]), float(c[p, 1] / c[xi, 1]), float(d[xi])
+        a, b = float(c[p, 2] / c[n, 2]), float(c[p, 1] / c[xi, 1])
+        if terms is not None:
+            power = terms.get("frictional_power", 0.0)
+            a, b = power * a + terms.get("normal_force", 0.0), power * b + terms.get("creepage", 0.0)
+        return a, b, float(d[xi])
 
-    def frictional_power_parts(self, angular_frequency) -> dict:
+    def frictional_power_parts(self, angular_frequency, terms=None) -> dict:
         """The bay-averaged frictional-power transfer split by what carries it, ``π̂/ū = a N̂/ū +
         b ξ̂/ū`` with ``ξ̂/ū = D_ξ + R0 Ω̂/(V ū)`` (see :meth:`power_sensitivities`), complex [W/m]:
         ``"rolling_radius"`` ``b D_ξ`` (a higher spot rolls with more creepage at the same wheel
         speed), ``"rotation"`` ``b (ξ̂/ū - D_ξ)`` (the wheel's speed following the creep force),
-        ``"normal_force"`` ``a N̂/ū``. They sum to ``transfer(ω, "frictional_power")``."""
-        a, b, d_xi = self.power_sensitivities()
+        ``"normal_force"`` ``a N̂/ū``. They sum to ``transfer(ω, "frictional_power")``; with a
+        law's ``terms`` (:meth:`power_sensitivities`) the same split of its driver's transfer."""
+        a, b, d_xi = self.power_sensitivities(terms)
         creepage = np.asarray(self.transfer(angular_frequency, "creepage"), complex)
         normal = np.asarray(self.transfer(angular_frequency, "normal_force"), complex)
         return {"rolling_radius": b * d_xi * np.ones_like(creepage), "rotation": b * (creepage - d_xi),
                 "normal_force": a * normal}
 
-    def power_load_split(self, angular_frequency):
+    def power_load_split(self, angular_frequency, terms=None):
         """``(P, Q)`` with ``π̂/ū = P + Q N̂/ū`` at every offset, complex, ``(len(ω),)`` each: the
         wheel's rotation (``J Ω' = T - (R0 + ū) Fx``) solved for the creepage given the load, so
         that ``P`` and ``Q`` hold only the rotation and the contact, not the vertical dynamics or
-        the rail (the same at every offset)."""
+        the rail (the same at every offset). ``terms``: a law's driver for ``π``
+        (:meth:`power_sensitivities`)."""
         A, B, c, d = self._linear
         out = self.LINEAR_OUTPUTS
         n, xi = out.index("normal_force"), out.index("creepage")
-        a, b, d_xi = self.power_sensitivities()
+        a, b, d_xi = self.power_sensitivities(terms)
         s = 1j * np.atleast_1d(np.asarray(angular_frequency, float))
         per_load = A[1, 2] / c[n, 2]  # Ω' per newton of load, through the approach
         per_u = B[1] - per_load * d[n]  # Ω' per metre of ū at fixed load: lever and rolling radius
         rotation = b * c[xi, 1] / (s - A[1, 1])
         return b * d_xi + rotation * per_u, a + rotation * per_load
 
-    def passive_bound(self, angular_frequency) -> np.ndarray:
+    def passive_bound(self, angular_frequency, terms=None) -> np.ndarray:
         """The least ``Re(π̂/ū)`` [W/m] (bay-averaged) that any passive vertical addition on the
         wheel's side could give: a wheelset mode of any frequency, modal mass and damping ``>= 0``,
         an axle-box or bogie mode through the primary suspension. At each offset ``N̂/ū = 1/Z``
@@ -210,8 +219,9 @@ class VehicleTrackModel:
         Im α = -y``: ``N̂/ū`` lies in the disk of centre ``i/(2y)`` and radius ``1/(2y)``, where
         ``Re(Q N̂/ū) >= -(Im Q + |Q|)/(2y)``. The rail's ``Im α`` (its damping and the bending
         waves it radiates) alone bounds how far a resonance can drive the load against the
-        smoothing. Attained by an undamped mode where the wheel has no damping of its own."""
-        P, Q = self.power_load_split(angular_frequency)
+        smoothing. Attained by an undamped mode where the wheel has no damping of its own.
+        ``terms``: the same for a law's driver (:meth:`power_sensitivities`)."""
+        P, Q = self.power_load_split(angular_frequency, terms)
         y = -np.imag(self.rail_receptance(angular_frequency))
         if np.any(y <= 0):
             raise ScenarioError("track: the rail receptance must dissipate (Im α < 0) for the bound")
@@ -231,7 +241,7 @@ def coupled_resonance(model: VehicleTrackModel, low, high, points=4001) -> float
     return float(f[np.argmax(np.abs(model.contact_force_transfer(2 * np.pi * f)))])
 
 
-def vehicle_track_fourier(wheel, track, speed, law, band_width, positions=8, driver="frictional_power",
+def vehicle_track_fourier(wheel, track, speed, law, band_width, positions=8, driver="law",
                           wheel_modes=()) -> Fourier:
     """:class:`Fourier` rates of ``wheel`` (a rigid-rail :class:`DiskWheelModel`, with
     ``wheel_modes``) on ``track`` at ``speed`` (m/s), as :meth:`Fourier.disk_wheel` gives them for
@@ -241,30 +251,32 @@ def vehicle_track_fourier(wheel, track, speed, law, band_width, positions=8, dri
 
 
 def growth_parts(wheel, track, speed, law, band_width, orders, positions=8, wheel_modes=()) -> dict:
-    """Growth rates ``Re λ_n`` [1/s] of ``wheel`` on ``track`` at ``speed`` (m/s) under the
-    frictional-power law, split as :meth:`VehicleTrackModel.frictional_power_parts` splits the
-    transfer: ``"rolling_radius"``, ``"rotation"``, ``"normal_force"`` (each ``-c Re H_part
-    F_n²``, summing to ``"total"``, which is :meth:`Fourier.rates`), with ``"contact_filter"``
+    """Growth rates ``Re λ_n`` [1/s] of ``wheel`` on ``track`` at ``speed`` (m/s) under the wear
+    law ``law`` (with a linearisation), split as :meth:`VehicleTrackModel.frictional_power_parts`
+    splits the transfer of the law's driver: ``"rolling_radius"``, ``"rotation"``,
+    ``"normal_force"`` (each ``-c Re H_part F_n²``, summing to ``"total"``, which is
+    :meth:`Fourier.rates`), with ``"contact_filter"``
     ``F_n²``, ``"passive_bound"`` (the largest rate any passive vertical wheel-side mode could give,
     from :meth:`VehicleTrackModel.passive_bound`), ``"frequency"`` ``n Ω`` [Hz] and ``"order"``."""
     model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions, wheel_modes)
     fourier = Fourier.disk_wheel(model, law, band_width)
+    _, terms = law_terms(model, law, band_width)
     n = np.atleast_1d(np.asarray(orders, float))
     if np.any(n < 1):
         raise ScenarioError("orders must be >= 1")
     omega = n * fourier.wheel_speed
     filt = contact_filter(n, fourier.half_angle) ** 2
     scale = -fourier.depth_per_driver * filt
-    out = {name: scale * np.real(part) for name, part in model.frictional_power_parts(omega).items()}
+    out = {name: scale * np.real(part) for name, part in model.frictional_power_parts(omega, terms).items()}
     out["total"] = fourier.rates(n).real
     out["contact_filter"] = filt
-    out["passive_bound"] = scale * model.passive_bound(omega)
+    out["passive_bound"] = scale * model.passive_bound(omega, terms)
     out["frequency"] = omega / (2 * np.pi)
     out["order"] = n
     return out
 
 
-def growth_map(wheel, track, speeds, orders, law, band_width, positions=8, driver="frictional_power",
+def growth_map(wheel, track, speeds, orders, law, band_width, positions=8, driver="law",
                wheel_modes=()):
     """:func:`stability_map` (growth per km over speed × order) of ``wheel`` on ``track``, with the
     rail receptance evaluated once per bay offset for every speed's frequencies ``n Ω``."""
@@ -323,7 +335,7 @@ class VehicleCase:
             traction_torque=self.traction_coefficient * self.static_load * radius,
             patch_half_length=constants["patch_half_length"])
 
-    def fourier(self, speed, law, positions=8, driver="frictional_power") -> Fourier:
+    def fourier(self, speed, law, positions=8, driver="law") -> Fourier:
         """:func:`vehicle_track_fourier` of this case at ``speed`` (m/s)."""
         return vehicle_track_fourier(self.wheel(speed), self.track, speed, law, self.band_width, positions, driver,
                                      self.wheel_modes)
@@ -333,7 +345,7 @@ class VehicleCase:
         return growth_parts(self.wheel(speed), self.track, speed, law, self.band_width, orders, positions,
                             self.wheel_modes)
 
-    def growth_map(self, speeds, orders, law, positions=8, driver="frictional_power"):
+    def growth_map(self, speeds, orders, law, positions=8, driver="law"):
         """:func:`growth_map` of this case over ``speeds`` (m/s) and ``orders``."""
         return growth_map(self.wheel(speeds[0]), self.track, speeds, orders, law, self.band_width, positions, driver,
                           self.wheel_modes)

@@ -13,6 +13,11 @@ Every law a body can wear with is a :class:`WearLaw` registered by name: ``volum
 takes a :class:`ContactSample` (what the dynamics know of the contact at each output time) and
 returns m³/s. Laws proportional to the frictional power say so by their ``beta`` (m³/J), and the
 bodies then take the compiled path that sweeps the frictional energy onto the cells.
+
+A law may also give its :class:`Linearisation` about an operating point, which the linear
+strategies (the Fourier technique, the multiplier law) need: factored as ``V = κ D`` (a
+coefficient ``κ`` and the law's driver ``D``, ``driver_of``), the driver's value and its
+derivatives with respect to the fields of :class:`ContactSample` (:data:`LINEARISED`).
 """
 
 from abc import ABC, abstractmethod
@@ -39,6 +44,44 @@ class ContactSample:
     patch_area: np.ndarray
 
 
+LINEARISED = ("frictional_power", "normal_force", "sliding_speed", "speed", "patch_area")  # ContactSample fields
+
+
+@dataclass(frozen=True)
+class Linearisation:
+    """A wear law about one operating point, factored as ``V = κ D``:
+
+        V(q0 + δq) = κ (D0 + Σ_q ∂D/∂q δq) + O(δq²)
+
+    ``coefficient`` κ (m³/s per unit of ``D``), ``driver`` ``D0``, ``partials`` ``∂D/∂q`` by
+    field name of :class:`ContactSample` (:data:`LINEARISED`; a field not named: 0), ``regime``
+    the piece of a piecewise law that holds at the point ("" for a smooth law)."""
+
+    coefficient: float
+    driver: float
+    partials: dict
+    regime: str = ""
+
+    @property
+    def volume_rate(self):
+        """``V0 = κ D0`` (m³/s)."""
+        return self.coefficient * self.driver
+
+    def derivative(self, field):
+        """``∂V/∂q = κ ∂D/∂q`` for the field ``q`` of :class:`ContactSample` (m³/s per its unit)."""
+        if field not in LINEARISED:
+            raise ScenarioError(f"field must be one of {LINEARISED}, not {field!r}")
+        return self.coefficient * self.partials.get(field, 0.0)
+
+
+def _one_instant(point):
+    """``point``'s fields as floats: a linearisation is about one instant."""
+    values = {f: np.asarray(getattr(point, f), float) for f in LINEARISED}
+    if any(v.size != 1 or not np.isfinite(v).all() for v in values.values()):
+        raise ScenarioError("the operating point must be one instant with finite fields")
+    return {f: float(v.reshape(())) for f, v in values.items()}
+
+
 class WearLaw(Registered, ABC):
     """A wear law; subclasses register with ``class X(WearLaw, name="x")``."""
 
@@ -52,6 +95,16 @@ class WearLaw(Registered, ABC):
     def beta(self):
         """Volume per frictional energy (m³/J) of a law proportional to the frictional power, else ``None``."""
         return None
+
+    def linearisation(self, point: ContactSample):
+        """The :class:`Linearisation` about ``point`` (a :class:`ContactSample` of one instant),
+        or ``None``: the law has none, and the linear strategies refuse it."""
+        return None
+
+    def driver_of(self, contact: ContactSample):
+        """The driver ``D`` at each instant of ``contact``, ``volume_rate_of = κ D`` with ``κ`` the
+        :class:`Linearisation`'s coefficient; for a law with a linearisation."""
+        raise ScenarioError(f"wear.law: {self.name!r} has no linearisation, so no driver")
 
 STEEL_DENSITY = 7850.0  # kg/m³
 
@@ -84,6 +137,14 @@ class EnergyLaw(WearLaw, name="energy"):
     def volume_rate_of(self, contact):
         return self.volume_rate(contact.frictional_power)
 
+    def driver_of(self, contact):
+        """The frictional power (W): ``V = β π``."""
+        return np.asarray(contact.frictional_power, float)
+
+    def linearisation(self, point):
+        """``κ = β``, ``D = π``: ``∂D/∂π = 1``, linear everywhere."""
+        return Linearisation(self.beta, _one_instant(point)["frictional_power"], {"frictional_power": 1.0})
+
 
 @dataclass(frozen=True)
 class Archard(WearLaw, name="archard"):
@@ -102,6 +163,24 @@ class Archard(WearLaw, name="archard"):
 
     def volume_rate_of(self, contact):
         return self.volume_rate(np.maximum(contact.normal_force, 0.0), contact.sliding_speed)
+
+    def driver_of(self, contact):
+        """``N⁺ |s|`` (W: normal force times sliding speed), ``κ = k / H``."""
+        return np.maximum(np.asarray(contact.normal_force, float), 0.0) * np.abs(contact.sliding_speed)
+
+    def linearisation(self, point):
+        """``κ = k / H``, ``D = N |s|``: ``∂D/∂N = |s0|``, ``∂D/∂s = sign(s0) N0``. Refused where
+        the law has a kink: without load (``N0 <= 0``) or without sliding (``s0 = 0``, no creepage)."""
+        q = _one_instant(point)
+        n, s = q["normal_force"], q["sliding_speed"]
+        if not n > 0:
+            raise ScenarioError(f"wear.law: Archard's N⁺ has a kink at contact loss; the operating point carries "
+                                f"N = {n:g} N")
+        if s == 0:
+            raise ScenarioError("wear.law: Archard's |s| has a kink at zero sliding, and the operating point does not "
+                                "slide (no creepage: no traction)")
+        return Linearisation(self.coefficient / self.hardness, n * abs(s),
+                             {"normal_force": abs(s), "sliding_speed": float(np.sign(s)) * n})
 
 
 @dataclass(frozen=True)
@@ -149,13 +228,56 @@ class USFD(WearLaw, name="usfd"):
         mass_per_metre = self.rate(t_gamma / area_mm2) * area_mm2 * UG  # kg/m
         return mass_per_metre * speed / self.density
 
-    def volume_rate_of(self, contact):
+    def _inside(self, contact, of):
+        """``of(power, speed, area)`` where the patch has an area, 0 elsewhere."""
         area = np.asarray(contact.patch_area, float)
         inside = area > 0
         rate = np.zeros(np.broadcast(area, contact.frictional_power).shape)
         power, speed = (np.broadcast_to(v, rate.shape) for v in (contact.frictional_power, contact.speed))
-        rate[inside] = self.volume_rate(power[inside], speed[inside], area[inside])
+        rate[inside] = of(power[inside], speed[inside], area[inside])
         return rate
+
+    def volume_rate_of(self, contact):
+        return self._inside(contact, self.volume_rate)
+
+    def driver_of(self, contact):
+        """``K(Tγ/A) A v`` in µg/s (``A`` in mm²), ``κ = 1 µg / ρ``."""
+        return self._inside(contact, lambda power, speed, area: self.rate(power / speed / (area / MM2)) * (area / MM2)
+                            * speed)
+
+    def pieces(self):
+        """The affine pieces ``K = m x + q`` of the rate over ``x = Tγ/A`` (N/mm²) in order:
+        ``(name, upper end of x, m in µg/(m N), q in µg/(m mm²))``; a kink or step at each end."""
+        severe = ("severe", np.inf, self.severe_slope, -self.severe_offset)
+        if self.convention == "continuous":
+            return (("mild", self.plateau / self.mild_slope, self.mild_slope, 0.0),
+                    ("plateau", (self.plateau + self.severe_offset) / self.severe_slope, 0.0, self.plateau), severe)
+        return (("mild", self.mild_limit, self.mild_slope, 0.0), ("plateau", self.severe_limit, 0.0, self.plateau),
+                ("clipped", self.severe_offset / self.severe_slope, 0.0, 0.0), severe)
+
+    def linearisation(self, point):
+        """``κ = 1 µg / ρ``, ``D = K(x) A v = m π + q A v`` on the piece ``K = m x + q`` that holds
+        at ``x = Tγ/A = π / (v A)`` (``regime``): ``∂D/∂π = m``, ``∂D/∂A = q v``, ``∂D/∂v = q A``
+        (``A`` in mm²). Mild: proportional to the frictional power (``m = 5.3``), as the energy
+        law; plateau: to the area and speed alone. Refused on a kink between pieces and
+        without contact (``A <= 0``)."""
+        p = _one_instant(point)
+        power, speed, area = p["frictional_power"], p["speed"], p["patch_area"] / MM2
+        if not (area > 0 and speed > 0):
+            raise ScenarioError(f"wear.law: USFD's Tγ/A needs contact and rolling; the operating point has "
+                                f"A = {area:g} mm², v = {speed:g} m/s")
+        x = power / speed / area
+        lower = -np.inf
+        for name, upper, m, q in self.pieces():
+            if x == upper:
+                raise ScenarioError(f"wear.law: USFD's rate has a kink at Tγ/A = {x:g} N/mm², where the operating "
+                                    "point lies")
+            if lower < x < upper:
+                return Linearisation(UG / self.density, m * power + q * area * speed,
+                                     {"frictional_power": m, "patch_area": q * speed / MM2, "speed": q * area},
+                                     regime=name)
+            lower = upper
+        raise ScenarioError(f"wear.law: Tγ/A = {x:g} N/mm² lies outside USFD's pieces")
 
 
 class StatefulLaw(WearLaw):
