@@ -172,11 +172,6 @@ class RollingContact:
     adhesion_residual: float
 
     @property
-    def slip_velocity(self):
-        """(vx, vy) [m/s]: the local slip velocities ``V s``."""
-        return self.speed * self.slip_x, self.speed * self.slip_y
-
-    @property
     def traction(self):
         """|p| [Pa] (nx, ns)."""
         return np.hypot(self.px, self.py)

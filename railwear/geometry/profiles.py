@@ -88,10 +88,6 @@ class Profile:
         """dz/dy [-]."""
         return self._spline(y, 1)
 
-    def second_derivative(self, y):
-        """d²z/dy² [1/m]."""
-        return self._spline(y, 2)
-
     def curvature(self, y):
         """Signed curvature ``z'' / (1 + z'²)^(3/2)`` [1/m]; positive where the surface is convex
         seen from below (a rail head)."""
