@@ -30,8 +30,8 @@ def _speeds_m_s(speeds_kmh, field="speeds_kmh"):
 def stability(scenario=None, speeds_kmh=SPEEDS_KMH, orders=ORDERS, amplitude=None):
     """Growth rate over speed × polygon order; the ``speed`` coordinate is in m/s.
 
-    With ``[strategy] kind = "fourier"`` from the transfer functions of its body, the disk wheel
-    or the wheel on the track (per km run),
+    With a strategy on the body's linear model (Fourier, multiplier) from the transfer functions
+    of its body, the disk wheel or the wheel on the track (per km run),
     else from the evolution equation's dispersion relation (per unit normed time) with the slope
     frozen at the crest of ``amplitude`` (m; default the scenario's initial rms, 0 the round
     wheel; the Fourier technique ignores it). Attributes: ``scenario_name``, ``scenario_hash``
@@ -47,15 +47,9 @@ def stability(scenario=None, speeds_kmh=SPEEDS_KMH, orders=ORDERS, amplitude=Non
     if amplitude is not None and not amplitude >= 0:
         raise ScenarioError(f"amplitude: must be >= 0 (m), got {amplitude!r}")
     sc = load_scenario(scenario)
-    if sc.strategy.kind == "fourier" and sc.strategy.body == "vehicle_track":
-        ds = build.vehicle_case(sc).growth_map(v, n.astype(int), build.wear_law(sc), sc.track.bay_positions)
-        label = "wheel on the discrete track (Fourier technique)"
-    elif sc.strategy.kind == "fourier":
-        from railwear.longterm import fourier
-
-        ds = fourier.stability_map(lambda speed: build.disk_wheel_model(sc, speed), v, n.astype(int),
-                                   build.wear_law(sc), build.band_width(sc))
-        label = "disk-wheel dynamics (Fourier technique)"
+    if sc.strategy.needs == "linear_model":
+        ds = sc.body.growth_map(sc, v, n.astype(int))
+        label = f"{sc.body.label} (Fourier technique)"
     else:
         from railwear.pde import stability_map
 
@@ -175,10 +169,10 @@ TRACK_FREQUENCIES_HZ = (10.0, 3000.0, 600)  # the receptance's default log-space
 
 
 def track_receptance(scenario=None, frequencies_hz=None):
-    """The vertical rail receptance of a ``body = "vehicle_track"`` scenario's ``[track]`` over
+    """The vertical rail receptance of a ``[body] kind = "vehicle_track"`` scenario's ``[track]`` over
     ``frequencies_hz`` (default 10-3000 Hz, log-spaced): magnitude (m N-1) and phase (deg) at
     midspan and above a sleeper, the bay-averaged normal-force transfer ``|N/ū|`` (N m-1) of the
-    ``[vehicle]`` wheel on it at the operation speed, and the pinned-pinned (discrete track) and
+    ``[body]`` wheel on it at the operation speed, and the pinned-pinned (discrete track) and
     P2 frequencies (Hz)."""
     import xarray as xr
 
@@ -187,13 +181,14 @@ def track_receptance(scenario=None, frequencies_hz=None):
     from railwear.track import receptance
 
     sc = load_scenario(scenario)
-    if sc.strategy.body != "vehicle_track":
-        raise ScenarioError(f"strategy.body: the track receptance needs body 'vehicle_track', not {sc.strategy.body!r}")
+    if "track" not in sc.body.sections:
+        raise ScenarioError(f"body.kind: the track receptance needs a body on [track] (vehicle_track), "
+                            f"not {sc.body.kind!r}")
     f = np.geomspace(*TRACK_FREQUENCIES_HZ[:2], TRACK_FREQUENCIES_HZ[2]) if frequencies_hz is None else \
         np.atleast_1d(np.asarray(frequencies_hz, float))
     if f.ndim != 1 or f.size < 2 or not np.all(np.isfinite(f)) or f.min() <= 0 or f.max() > 1e5:
         raise ScenarioError(f"frequencies_hz: expected at least two frequencies in (0, 1e5] Hz, got {frequencies_hz!r}")
-    case = build.vehicle_case(sc)
+    case = sc.body.case(sc)
     track = case.track
     positions = ["midspan", "sleeper"] if track.discrete else ["continuous"]
     alpha = np.array([receptance(track, f, p if track.discrete else 0.0) for p in positions])

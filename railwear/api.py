@@ -31,7 +31,7 @@ def speed_coordinates(ds, speed_m_s=None, dim=None):
 def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.0, resume_path=None):
     """Run a scenario (a :class:`~railwear.scenario.schema.Scenario`, a file or a built-in name).
 
-    Returns the solution with its spectrum (with ``[strategy] body = "wheelset"``: the worn
+    Returns the solution with its spectrum (with ``[body] kind = "wheelset"``: the worn
     lateral profile over distance and the angular pattern, from the new profile), the resolved
     scenario as TOML, its hash and the package version in the attributes. ``progress`` is called with the fraction done. With
     ``checkpoint_path`` the state is saved there at most every ``checkpoint_every`` seconds of

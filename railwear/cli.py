@@ -26,11 +26,18 @@ def _print_version(value: bool):
         raise typer.Exit()
 
 
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):
+    typer.echo(f"railwear: warning: {message}", err=True)
+
+
 @app.callback()
 def _announce_compiling(ctx: typer.Context, version: Annotated[bool, typer.Option(
         "--version", is_eager=True, callback=_print_version, help="print railwear's version and exit")] = False):
     """One line on standard error when numba starts compiling, i.e. its cache is cold (the first
     run after an install or a change): up to a minute that would otherwise look like a hang."""
+    import warnings
+
+    warnings.showwarning = _one_line_warning  # a warning before a run (the scenario's layout) in one line too
     if ctx.invoked_subcommand in _QUIET_COMMANDS or _compile_notice["installed"]:
         return
     from numba.core import event
@@ -590,7 +597,7 @@ def figure(
     fmt: Format = "png",
     dpi: Dpi = 120,
 ):
-    """One of the paper's frozen-geometry figures from a disk-wheel scenario ([disk_wheel], [initial])."""
+    """One of the paper's frozen-geometry figures from a disk-wheel scenario ([body] kind = "disk_wheel", [initial])."""
     from railwear import analysis, plots
 
     _figure_options(fmt, dpi)

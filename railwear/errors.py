@@ -51,3 +51,7 @@ class IllPosedError(NumericalInstabilityError):
 
 class ResolutionWarning(UserWarning):
     """The top of the kept spectrum grew: the grid may not resolve the solution."""
+
+
+class ScenarioLayoutWarning(UserWarning):
+    """A scenario written in an earlier layout was read in today's (the message says what moved)."""

@@ -262,9 +262,6 @@ def measured_state(u, diameter):
             "band_levels": bands.band_levels(u, diameter)}
 
 
-LINEAR_KINDS = ("fourier", "multiplier")  # strategies run per sample on the scenario's own body
-
-
 def _linear_runs(samples, u0, t_end, progress=None):
     """Each sample's scenario run by its own strategy (the Fourier technique or the multiplier law
     on its body: the disk wheel or the wheel on the track) from ``u0`` to ``t_end``, stacked over a
@@ -312,7 +309,7 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
         "operation": scenario.operation.model_copy(update={"speed_kmh": float(v), "speed_m_s": None}),
         "solver": solver.model_copy(update={"n_save": n_save, "peak_to_peak_limit_mm": None})})
         for v, w, mu in zip(speed, load, friction)]
-    if scenario.strategy.kind in LINEAR_KINDS:
+    if scenario.strategy.needs == "linear_model":
         ds = _linear_runs(samples, u0, t_end, progress)
     else:
         strategy = Phenomenological([build.wear_rate(sample) for sample in samples], kmh_to_m_s(speed), solver.epsilon,

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from railwear.errors import MeasuredFileError
-from railwear.scenario import decode_text
+from railwear.textfiles import decode_text
 from railwear.units import MM
 
 ANGLE_UNITS = {"deg": np.pi / 180, "rad": 1.0}

@@ -302,7 +302,7 @@ def _write_point(store, key, ds):
 def _batched_speeds(base, varies, samples):
     """Whether the sweep is a grid over the speed alone, which one batched solve does best."""
     return samples is None and len(varies) == 1 and varies[0].field in SPEED_FIELDS and \
-        isinstance(base.operation.speeds, float) and base.strategy.kind == "phenomenological"
+        isinstance(base.operation.speeds, float) and base.strategy.batches_speeds
 
 
 def run_sweep(base: Scenario, varies, store, samples=None, seed=0, executor=None, progress=None,

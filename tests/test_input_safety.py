@@ -49,7 +49,7 @@ def edit(text, old, new):
     (edit(ONSET, 'form = "disk_contact"', 'form = "cubic"\nc1 = 1e300'), "wear_rate.c1"),
     (edit(ONSET, 'name = "onset"', 'name = "on\\u0000set"'), "name"),
     (edit(ONSET, "life_distance_km = 50000.0", "life_distance_km = 1e300"), "operation.life_distance_km"),
-    (edit(LINEAR, "primary_stiffness_N_m = 1.2e6", "primary_stiffness_N_m = 1e300"), "disk_wheel.primary_stiffness_N_m"),
+    (edit(LINEAR, "primary_stiffness_N_m = 1.2e6", "primary_stiffness_N_m = 1e300"), "body.primary_stiffness_N_m"),
     ("x = " + "[" * 5000 + "]" * 5000, "nested too deeply"),
 ])
 def test_absurd_or_contradictory_scenario_is_refused_naming_the_field(tmp_path, text, field):

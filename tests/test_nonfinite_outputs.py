@@ -64,7 +64,7 @@ def run(tmp_path, scenario, *sets):
     ("linear-dynamics", (), {"growth_rate": "N/2", "roughness_level": "zero at the end"}),
     ("linear-dynamics", ("solver.t_end=1e-300",), {"growth_rate": "too short", "out_of_round_growth_factor": "too short"}),
     ("linear-dynamics", ("initial.rms_um=1e-300",), {"out_of_round_growth_rate": "round", "roughness_level": "-inf"}),
-    ("linear-dynamics", ("disk_wheel.primary_damping_N_s_m=1e-300", "disk_wheel.pad_damping_N_s_m=1e-300"), {}),
+    ("linear-dynamics", ("body.primary_damping_N_s_m=1e-300", "body.pad_damping_N_s_m=1e-300"), {}),
     ("linear-dynamics", ("initial.seed=4611686018427387904",), {}),
     ("linear-dynamics", ("solver.points=256", "solver.n_save=3", "solver.t_end=0.5"), {}),
     ("onset", ("solver.points=64", "solver.t_end=1e-300"), {"growth_rate": "too short"}),

@@ -109,7 +109,7 @@ def test_the_numbers_behind_the_regime_are_in_the_report(metro):
 def test_the_scenario_version_and_summary_text_are_in_the_report(metro):
     out, ds = metro
     page = Page((out / "report.html").read_text(encoding="utf-8"))
-    assert ds.attrs["scenario"] in page.pres and "[vehicle]" in ds.attrs["scenario"]
+    assert ds.attrs["scenario"] in page.pres and "[body]" in ds.attrs["scenario"]
     assert (out / "summary.txt").read_text() in page.pres
     assert f"railwear {railwear.__version__}" in page.words
     section = page.words.split(" Warnings ", 1)[1].split(" Scenario ", 1)[0]

@@ -3,14 +3,17 @@
 import hashlib
 import json
 import tomllib
+import warnings
 from importlib import resources
 from pathlib import Path
 
 import tomli_w
 from pydantic import ValidationError
 
-from railwear.errors import OptionError, ScenarioError
-from railwear.scenario.schema import Scenario
+from railwear.errors import OptionError, ScenarioError, ScenarioLayoutWarning
+from railwear.textfiles import decode_text
+from railwear.scenario.schema import OLD_BODY_SECTIONS, OLD_BODY_SETTINGS, Scenario, _new_layout
+from railwear.scenario import bodies  # noqa: F401  (registers the built-in [body] sections)
 
 DEFAULT = "metro"
 
@@ -105,18 +108,6 @@ def _one_line(err: ValidationError, source, data=None):
     return f"{source}: field '{_field_path(chosen[0]['loc'], data) or 'scenario'}': {message}{more}"
 
 
-def decode_text(data: bytes, source, error=ScenarioError):
-    """UTF-8 text of a file (a byte-order mark is dropped); anything else is refused (``error``)
-    naming the line and column of the first bad byte."""
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as e:
-        line = data.count(b"\n", 0, e.start) + 1
-        column = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
-        raise error(f"{source}: line {line}, column {column}: not UTF-8 text "
-                            f"(byte 0x{data[e.start]:02x}); save the file as UTF-8") from None
-
-
 def read_text(path, source=None):
     """The UTF-8 text of the file ``path`` (see :func:`decode_text`); a missing file is refused."""
     path = Path(path)
@@ -147,6 +138,15 @@ def validated(model, data, source):
         raise ScenarioError(_one_line(e, source, data)) from None
     except RecursionError:
         raise ScenarioError(f"{source}: nested too deeply") from None
+
+
+def new_layout(data, source):
+    """Plain scenario ``data`` in today's layout (:func:`~railwear.scenario.schema._new_layout`);
+    a conflict between the layouts is refused in one line naming the field."""
+    try:
+        return _new_layout(data) if isinstance(data, dict) else data
+    except ValidationError as e:
+        raise ScenarioError(_one_line(e, source, data)) from None
 
 
 def parse_scenario(text, source="scenario", base_dir=None):
@@ -202,8 +202,25 @@ def field_table(data, path, what, create=False):
     return node, keys[-1]
 
 
+def moved_field(path):
+    """The field of today's layout for a dotted ``path`` of the layout before ``[body]``
+    (``strategy.body`` is ``body.kind``; the body's settings and ``[disk_wheel]``, ``[vehicle]``,
+    ``[wheelset_wear]`` are ``[body]``'s), with a warning when it moved."""
+    section, _, name = path.partition(".")
+    if path == "strategy.body":
+        new = "body.kind"
+    elif (section == "strategy" and name in OLD_BODY_SETTINGS) or (section in OLD_BODY_SECTIONS.values() and name):
+        new = f"body.{name}"
+    else:
+        return path
+    warnings.warn(f"{path} is {new} now (scenario layout with [body])", ScenarioLayoutWarning, stacklevel=3)
+    return new
+
+
 def set_field(data, path, value, what="--set", create=False):
-    """Set the dotted field ``path`` of plain scenario ``data``; a speed field replaces the other."""
+    """Set the dotted field ``path`` of plain scenario ``data`` (a field of the layout before
+    ``[body]`` at its new place); a speed field replaces the other."""
+    path = moved_field(path)
     node, key = field_table(data, path, what, create)
     node[key] = value
     if path in SPEED_FIELDS:
@@ -225,7 +242,7 @@ def parse_set(text):
         return field, value
 
 
-KINDS = ("strategy.kind", "strategy.body", "wear.law")  # the fields that choose which others apply
+KINDS = ("strategy.kind", "body.kind", "wear.law")  # the fields that choose which others apply
 
 
 def _within(data, allowed):
@@ -244,11 +261,12 @@ def load_scenario(path_or_name=None, overrides=()):
     else:
         text, source, base_dir = scenario_text(DEFAULT if path_or_name is None else path_or_name,
                                                builtin_names(), _builtin_dir())
-        data = parse_toml(text, source)
+        data = new_layout(parse_toml(text, source), source)
         base = parse_scenario(data, source, base_dir)
     if not overrides:
         return base
     sets = dict(overrides.items() if isinstance(overrides, dict) else map(parse_set, overrides))
+    sets = {moved_field(field): value for field, value in sets.items()}
     source = f"{source} with --set"
     current = {field: getattr(getattr(base, field.split(".")[0]), field.split(".")[1]) for field in KINDS}
     if any(sets.get(field, value) != value for field, value in current.items()):

@@ -60,9 +60,9 @@ def initial_state(scenario: Scenario):
 
 
 def initial_wear(scenario: Scenario):
-    """What the strategy starts from: ``u0`` (m) for the disk wheel, ``None`` (the new profile)
-    for the wheelset."""
-    return None if scenario.strategy.body == "wheelset" else initial_state(scenario)
+    """What the strategy starts from: ``u0`` (m), or ``None`` for a body that starts new (the
+    wheelset's new profile)."""
+    return None if scenario.body.starts_new else initial_state(scenario)
 
 
 def patch(scenario: Scenario):
@@ -75,22 +75,12 @@ def patch(scenario: Scenario):
 
 
 def disk_wheel_model(scenario: Scenario, speed):
-    """The disk wheel of ``[disk_wheel]`` at ``speed`` (m/s), with Hertz and Kalker constants."""
-    from railwear.dynamics import DiskWheelModel, contact_constants
-
-    w, c, d = scenario.wheel, scenario.contact, scenario.disk_wheel
-    load = w.static_load_kN * KN
-    constants = contact_constants(load, 1 / (2 * w.radius_m), 1 / (2 * c.rail_head_radius_m),
-                                  c.youngs_modulus_GPa * GPA, c.poisson)
-    return DiskWheelModel(
-        speed=float(speed), radius=w.radius_m, wheel_mass=w.unsprung_mass_kg,
-        wheel_inertia=d.wheel_inertia_kg_m2, static_load=load,
-        hertz_constant=constants["hertz_constant"], primary_stiffness=d.primary_stiffness_N_m,
-        primary_damping=d.primary_damping_N_s_m, f11=constants["f11"],
-        sprung_mass=d.sprung_mass_kg, rail_mass=d.rail_mass_kg, pad_stiffness=d.pad_stiffness_N_m,
-        pad_damping=d.pad_damping_N_s_m, friction_coefficient=c.friction_coefficient,
-        traction_torque=c.traction_coefficient * load * w.radius_m,
-        patch_half_length=constants["patch_half_length"])
+    """The disk wheel (:class:`~railwear.dynamics.DiskWheelModel`) of a body that has one, at
+    ``speed`` (m/s); other bodies are refused naming ``body.kind``."""
+    model = getattr(scenario.body, "model", None)
+    if model is None:
+        raise ScenarioError(f"body.kind: this needs the disk wheel (kind 'disk_wheel'), not {scenario.body.kind!r}")
+    return model(scenario, speed)
 
 
 BUILDERS: dict = {}
@@ -145,46 +135,26 @@ def track(scenario: Scenario):
     return discrete.smeared() if t.support == "continuous" else discrete
 
 
-def vehicle_case(scenario: Scenario):
-    """The :class:`~railwear.longterm.vehicle_track.VehicleCase` of ``[wheel]``, ``[contact]``,
-    ``[vehicle]`` and ``[track]``, its wear band from :func:`band_width`."""
-    from railwear.longterm.vehicle_track import VehicleCase
-
-    w, c, v = scenario.wheel, scenario.contact, scenario.vehicle
-    return VehicleCase(
-        name=scenario.name, diameter=2 * w.radius_m, static_load=w.static_load_kN * KN,
-        unsprung_mass=w.unsprung_mass_kg, wheel_inertia=v.wheel_inertia_kg_m2, sprung_mass=v.sprung_mass_kg,
-        primary_stiffness=v.primary_stiffness_MN_m * MN, primary_damping=v.primary_damping_kN_s_m * KN,
-        track=track(scenario), traction_coefficient=c.traction_coefficient, band_width=band_width(scenario),
-        rail_head_radius=c.rail_head_radius_m, friction_coefficient=c.friction_coefficient,
-        youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson,
-        wheel_modes=tuple(zip(v.wheel_mode_frequencies_hz, v.wheel_mode_masses_kg, v.wheel_mode_damping_ratios)))
-
-
 @builds("fourier")
 def fourier(scenario: Scenario):
     """Strategy 2: the Fourier technique at the one speed on the linearised disk wheel, or on the
-    wheel of ``[vehicle]`` over ``[track]`` (bay-averaged), stopping at ``solver.peak_to_peak_limit_mm``."""
+    wheel of ``[body]`` over ``[track]`` (bay-averaged), stopping at ``solver.peak_to_peak_limit_mm``."""
     from railwear.longterm.fourier import Fourier, FourierStrategy
 
     model, band = linear_model(scenario, one_speed(scenario))
     technique = Fourier.disk_wheel(model, wear_law(scenario), band)
-    body_name = scenario.strategy.body
     limit = scenario.solver.peak_to_peak_limit_mm
-    return FourierStrategy(technique, life_distance(scenario), scenario.solver.n_save, body=body_name,
+    return FourierStrategy(technique, life_distance(scenario), scenario.solver.n_save, body=scenario.body.kind,
                            peak_to_peak_limit=None if limit is None else limit * MM)
 
 
 def linear_model(scenario: Scenario, speed):
-    """The linearisable wheel model of the body at ``speed`` (m/s) and its wear band (m): the disk
-    wheel, or the wheel of ``[vehicle]`` on ``[track]`` (with its wheelset modes)."""
-    if scenario.strategy.body != "vehicle_track":
-        return disk_wheel_model(scenario, speed), band_width(scenario)
-    from railwear.longterm.vehicle_track import VehicleTrackModel
-
-    case = vehicle_case(scenario)
-    return VehicleTrackModel(case.wheel(speed), case.track, scenario.track.bay_positions, case.wheel_modes), \
-        case.band_width
+    """The body's linear model at ``speed`` (m/s) and its wear band (m); a body without one is
+    refused naming ``body.kind``."""
+    try:
+        return scenario.body.linear_model(scenario, speed)
+    except NotImplementedError as e:
+        raise ScenarioError(f"body.kind: {e}") from None
 
 
 @builds("multiplier")
@@ -196,11 +166,9 @@ def multiplier(scenario: Scenario):
 
     st, solver, law = scenario.strategy, scenario.solver, wear_law(scenario)
     model, band = linear_model(scenario, one_speed(scenario))
-    given = solver.model_fields_set
     limit = solver.peak_to_peak_limit_mm
-    options = {"grid_points": st.grid_points, "body": st.body,
-               "peak_to_peak_limit": None if limit is None else limit * MM,
-               "epsilon": solver.epsilon if "epsilon" in given else 0.0, "nu": solver.nu if "nu" in given else 0.0,
+    options = {"grid_points": st.grid_points, "body": scenario.body.kind,
+               "peak_to_peak_limit": None if limit is None else limit * MM, "epsilon": solver.epsilon, "nu": solver.nu,
                "options": {"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt}}
     if st.local == "none":
         return Multiplier.from_fourier(Fourier.disk_wheel(model, law, band), life_distance(scenario), **options)
@@ -237,25 +205,6 @@ def life_distance(scenario: Scenario):
     return scenario.operation.life_distance_km * KM
 
 
-DISK_WHEEL_SETTINGS = ("revolutions", "transient_revolutions", "samples", "updates_per_revolution")
-
-
-def disk_wheel_body(scenario: Scenario, speed=None):
-    """The disk wheel of ``[disk_wheel]`` as a long-term body, its frozen-geometry draws from the
-    ``[service]`` speeds (``speed`` m/s: the model's speed, default the service mean), with the
-    settings of ``[strategy]`` that are the body's."""
-    from railwear.longterm.disk_wheel import DiskWheel
-    from railwear.longterm.disk_wheel_state import StatefulDiskWheel
-
-    st, service, law = scenario.strategy, service_speeds(scenario), wear_law(scenario)
-    settings = {k: getattr(st, k) for k in DISK_WHEEL_SETTINGS if k in type(st).model_fields}
-    model = disk_wheel_model(scenario, service.mean if speed is None else speed)
-    if getattr(law, "stateful", False):
-        return StatefulDiskWheel(model, law, band_width(scenario), life_distance(scenario), service, **settings,
-                                 state_scale=scenario.wear.state_scale_um * UM)
-    return DiskWheel(model, law, band_width(scenario), life_distance(scenario), service, **settings)
-
-
 @builds("stepwise")
 def stepwise(scenario: Scenario):
     """Strategy 3 on the body, the disk wheel over the ``[service]`` speeds, seeded by ``service.seed``."""
@@ -272,83 +221,17 @@ def direct(scenario: Scenario):
     marks, the wheelset's after every update."""
     from railwear.longterm.direct import Direct
 
-    wheelset = scenario.strategy.body == "wheelset"
     return Direct(body(scenario, one_speed(scenario)), scenario.strategy.acceleration_factor,
-                  n_save=None if wheelset else scenario.solver.n_save, seed=scenario.service.seed)
-
-
-def profile(scenario: Scenario, which):
-    """The wheel or rail profile of ``[wheelset_wear]`` (``which`` "wheel" or "rail")."""
-    from railwear.geometry import load_profile
-
-    name = getattr(scenario.wheelset_wear, f"{which}_profile")
-    try:
-        return load_profile(name)
-    except (OSError, ValueError, ScenarioError) as e:
-        message = str(e).splitlines()[0] if str(e) else type(e).__name__
-        raise ScenarioError(f"wheelset_wear.{which}_profile: cannot load {name!r}: built-in S1002 or UIC60, "
-                            f"or a SIMPACK profile file ({message})") from None
-
-
-def wheelset_wear(scenario: Scenario):
-    """The :class:`~railwear.longterm.wheelset_wear.WheelsetWear` problem of ``[wheelset_wear]``
-    with the suspension of ``[wheelset]`` at the one operation speed."""
-    from railwear.dynamics import TableWheelsetModel
-    from railwear.geometry import contact_table
-    from railwear.longterm.wheelset_wear import WheelsetWear
-
-    speed, ww, c, w, ws = (one_speed(scenario), scenario.wheelset_wear, scenario.contact, scenario.wheel,
-                           scenario.wheelset)
-    n = max(int(round(ww.shift_max_mm / ww.shift_step_mm)), 1)
-    shifts = np.round(np.linspace(-ww.shift_max_mm, ww.shift_max_mm, 2 * n + 1) * MM, 12)
-    wheel, rail = profile(scenario, "wheel"), profile(scenario, "rail")
-    table = contact_table(wheel, rail, y=shifts, axle_load=2 * w.static_load_kN * KN, rolling_radius=w.radius_m,
-                          youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson, contact_model=ww.contact_model)
-    model = TableWheelsetModel(speed=float(speed), mass=ws.mass_kg, yaw_inertia=ws.yaw_inertia_kg_m2,
-                               lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=ws.yaw_stiffness_N_m_rad,
-                               table=table, friction_coefficient=c.friction_coefficient)
-    edges = np.round(np.linspace(ww.lateral_min_mm, ww.lateral_max_mm, ww.lateral_cells + 1) * MM, 12)
-    return WheelsetWear(model, wheel, rail, wear_law(scenario), life_distance(scenario),
-                        shifts=tuple(shifts), lateral_edges=tuple(edges), n_angle=ww.angle_cells,
-                        transient=ww.transient_s, offsets=(ww.offset_min_mm * MM, ww.offset_max_mm * MM),
-                        output_rate=ww.output_rate_Hz, footprint=ww.footprint,
-                        contact_model=ww.contact_model)
-
-
-def wheelset_body(scenario: Scenario):
-    """The wheelset of ``[wheelset_wear]`` as a long-term body (its samples from ``[strategy]``)."""
-    from railwear.longterm.wheelset_wear import Wheelset
-
-    ww = scenario.wheelset_wear
-    if getattr(wear_law(scenario), "stateful", False):
-        raise ScenarioError(f"wear.law: {scenario.wear.law!r} carries a state per cell, which the wheelset "
-                            "body does not; use it with body = \"disk_wheel\"")
-    return Wheelset(wheelset_wear(scenario), seconds=ww.seconds_per_sample_s,
-                    samples=getattr(scenario.strategy, "samples", 4), update_seconds=ww.update_interval_s)
-
-
-def vehicle_track_body(scenario: Scenario, speed=None):
-    """The wheel of ``[vehicle]`` on the time-domain track of ``[track]`` (a ring of
-    ``ring_sleepers`` bays) as a long-term body, like :func:`disk_wheel_body`."""
-    from railwear.longterm.vehicle_track_body import VehicleTrackBody, ring_for
-
-    st, service, case, t = scenario.strategy, service_speeds(scenario), vehicle_case(scenario), scenario.track
-    if case.wheel_modes:
-        raise ScenarioError("vehicle.wheel_mode_frequencies_hz: the time-domain vehicle-track body has no flexible "
-                            "wheelset modes; use the fourier or multiplier strategy")
-    settings = {k: getattr(st, k) for k in DISK_WHEEL_SETTINGS if k in type(st).model_fields}
-    return VehicleTrackBody(case.wheel(service.mean if speed is None else speed), wear_law(scenario), case.band_width,
-                            life_distance(scenario), service, **settings,
-                            ring=ring_for(case.track, t.ring_sleepers, t.ring_max_frequency_hz))
+                  n_save=None if scenario.body.saves_every_segment else scenario.solver.n_save,
+                  seed=scenario.service.seed)
 
 
 def body(scenario: Scenario, speed=None):
-    """The body of ``[strategy] body``: the disk wheel or the wheel on the track (at ``speed``,
-    m/s, default the service mean) or the wheelset (``run(None, ...)`` starts from the new profile)."""
-    kind = scenario.strategy.body
-    if kind == "wheelset":
-        return wheelset_body(scenario)
-    return vehicle_track_body(scenario, speed) if kind == "vehicle_track" else disk_wheel_body(scenario, speed)
+    """The long-term body of ``[body]`` at ``speed`` (m/s, default the service mean)."""
+    try:
+        return scenario.body.build(scenario, speed)
+    except NotImplementedError as e:
+        raise ScenarioError(f"body.kind: {e}") from None
 
 
 def fitted_h(scenario: Scenario, speeds=None, scales=(0.5, 1.0, 1.5, 2.0), degree=3, bins=16):
@@ -360,7 +243,8 @@ def fitted_h(scenario: Scenario, speeds=None, scales=(0.5, 1.0, 1.5, 2.0), degre
     from railwear.longterm.disk_wheel import ServiceSpeeds
     from railwear.longterm.fitting import fit_h, gather
 
-    frozen = disk_wheel_body(scenario)
+    disk_wheel_model(scenario, 1.0)  # a disk wheel's, or refused
+    frozen = body(scenario)
     speeds = np.atleast_1d(service_speeds(scenario).peaks if speeds is None else speeds).astype(float)
     scatter = frozen.service.scatter
     u0 = initial_state(scenario)

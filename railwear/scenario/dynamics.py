@@ -94,7 +94,7 @@ QUANTITIES = {
     "secondary_spring_half_spacing_m": Quantity("secondary_spring_half_spacing", "m", "1", 0.1, 2.0),
     "primary_height_m": Quantity("primary_height", "m", "1", -2.0, 2.0),
     "secondary_height_m": Quantity("secondary_height", "m", "1", -2.0, 2.0),
-    # disk wheel (the names and bounds of the long-term [wheel] and [disk_wheel] sections)
+    # disk wheel (the names and bounds of the long-term [wheel] and [body] kind = "disk_wheel" sections)
     "radius_m": Quantity("radius", "m", "1", 0.05, 2.0),
     "wheel_mass_kg": Quantity("wheel_mass", "kg", "1", 1.0, 1e5),
     "wheel_inertia_kg_m2": Quantity("wheel_inertia", "kg m^2", "1", 1e-3, 1e5),

@@ -5,6 +5,7 @@ can be (a 1e-30 m wheel, a 1e300 N/m spring) would otherwise run into a division
 overflow or a run that never ends. Types are strict: ``true`` is not a number, ``2.0`` not a count.
 """
 
+import warnings
 from abc import abstractmethod
 from typing import Annotated, ClassVar, Literal
 
@@ -12,6 +13,7 @@ from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, SerializeAsA
                       field_validator, model_validator)
 from pydantic_core import PydanticCustomError
 
+from railwear.errors import ScenarioLayoutWarning
 from railwear.units import GPA, UG, kmh_to_m_s
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -179,6 +181,7 @@ def _section_of(registry, key, default, what):
     def pick(value):
         if isinstance(value, BaseModel):
             return value
+        value = {} if value is None else value  # the default section of the default kind
         if not isinstance(value, dict):
             raise ValueError(f"must be a table, not {type(value).__name__}")
         name = value.get(key, default)
@@ -327,26 +330,25 @@ class Initial(_Section):
         return self
 
 
+OPTIONAL_PARTS = ("solver.dealias", "solver.dt", "solver.epsilon", "solver.nu", "wear_rate",
+                  "solver.peak_to_peak_limit_mm", "track")  # read by some strategies or bodies only
+EQUATION = frozenset({"solver.dealias", "solver.dt", "solver.epsilon", "solver.nu"})  # the evolution equation's
+NEEDS = {"rates": "frozen-geometry wear rates", "segment": "a coupled segment of dynamics and wear",
+         "linear_model": "a linear model"}  # what a strategy can ask of a body
+
+
 class StrategySection(_Section):
     """``[strategy]``: the long-term strategy named by ``kind`` with its own fields (a field of
-    another kind is an error) on the ``body`` (``"disk_wheel"``: ``[disk_wheel]``; ``"wheelset"``:
-    ``[wheelset_wear]``). A new strategy registers its section with :func:`strategy_section` and
-    its builder with :func:`railwear.scenario.build.builds`."""
+    another kind is an error). ``needs`` is what it asks of the ``[body]`` (a key of
+    :data:`NEEDS`, ``None``: nothing, as the evolution equation of ``[wear_rate]``);
+    ``reads`` which of the :data:`OPTIONAL_PARTS` it reads; ``batches_speeds`` whether a list of
+    speeds runs as one batch. A new strategy registers its
+    section with :func:`strategy_section` and its builder with :func:`railwear.scenario.build.builds`."""
 
     kind: str
-    body: Literal["disk_wheel", "wheelset", "vehicle_track"] = "disk_wheel"
-    bodies: ClassVar[tuple] = ("disk_wheel",)
-    disk_wheel_only: ClassVar[tuple] = ()  # settings of the wheels rolling over the angle, not of the wheelset
-
-    @model_validator(mode="after")
-    def _body(self):
-        if self.body not in self.bodies:
-            raise ValueError(f"body {self.body!r} takes kind {' or '.join(repr(k) for k in _kinds_of(self.body))}, "
-                             f"not {self.kind!r}")
-        for name in self.disk_wheel_only:
-            if self.body == "wheelset" and name in self.model_fields_set:
-                raise refuse(name, f"applies to bodies 'disk_wheel' and 'vehicle_track' only, not {self.body!r}")
-        return self
+    needs: ClassVar[str | None] = None
+    reads: ClassVar[frozenset] = frozenset()
+    batches_speeds: ClassVar[bool] = False
 
 
 STRATEGY_SECTIONS: dict = {}
@@ -354,15 +356,10 @@ STRATEGY_SECTIONS: dict = {}
 
 def strategy_section(cls):
     """Register a ``[strategy]`` section class under the default of its ``kind`` field."""
+    if cls.needs is not None and cls.needs not in NEEDS:
+        raise TypeError(f"strategy section {cls.__name__}: needs must be None or one of {', '.join(NEEDS)}")
     STRATEGY_SECTIONS[cls.model_fields["kind"].default] = cls
     return cls
-
-
-def _kinds_of(body):
-    return [k for k, c in STRATEGY_SECTIONS.items() if body in c.bodies]
-
-
-Revolutions = Annotated[int, Field(ge=0, le=100000)]
 
 
 @strategy_section
@@ -371,27 +368,30 @@ class PhenomenologicalSection(StrategySection):
     regularisation of ``[solver]``."""
 
     kind: Literal["phenomenological"] = "phenomenological"
+    reads: ClassVar[frozenset] = EQUATION | {"wear_rate"}
+    batches_speeds: ClassVar[bool] = True
 
 
 @strategy_section
 class FourierSection(StrategySection):
-    """The Fourier technique (one speed) on the linearised disk wheel of ``[disk_wheel]``, or on
-    the wheel of ``[vehicle]`` over the rail of ``[track]`` (``body = "vehicle_track"``)."""
+    """The Fourier technique (one speed) on the body's linear model."""
 
     kind: Literal["fourier"] = "fourier"
-    bodies: ClassVar[tuple] = ("disk_wheel", "vehicle_track")
+    needs: ClassVar[str] = "linear_model"
+    reads: ClassVar[frozenset] = frozenset({"solver.peak_to_peak_limit_mm"})
 
 
 @strategy_section
 class MultiplierSection(StrategySection):
     """The multiplier law (one speed): the Fourier technique's rate per order exact in ETDRK4's
     linear part, plus ``local`` = ``"load"`` (the contact's load nonlinearity: creep stiffness,
-    saturation, contact loss) or ``"none"``; on the disk wheel of ``[disk_wheel]`` or the wheel on
-    ``[track]``. ``grid_points``: the surface grid of a direct run to compare with (filters the
-    rates as that grid does). ``[solver] epsilon`` and ``nu`` default to 0 here."""
+    saturation, contact loss) or ``"none"``, on the body's linear model. ``grid_points``: the
+    surface grid of a direct run to compare with (filters the rates as that grid does).
+    ``[solver] epsilon`` and ``nu`` default to 0 here."""
 
     kind: Literal["multiplier"] = "multiplier"
-    bodies: ClassVar[tuple] = ("disk_wheel", "vehicle_track")
+    needs: ClassVar[str] = "linear_model"
+    reads: ClassVar[frozenset] = EQUATION | {"solver.peak_to_peak_limit_mm"}
     local: Literal["load", "none"] = "load"
     grid_points: Annotated[int, Field(ge=2, le=65536)] | None = None
 
@@ -401,75 +401,71 @@ class StepwiseSection(StrategySection):
     """Stepwise frozen geometry: ``step_limit_um`` the largest change of ``u``
     (``step_limit_on = "u"``) or of its shape ``u - mean(u)`` (``"shape"``) per long-term step,
     taken by ``scheme`` (``"euler"``, or ``"adams-bashforth"``: second order at the same cost per
-    step), ``samples`` draws of phase and speed (from ``[service]``, seeded by ``service.seed``);
-    on the disk wheel each of ``revolutions`` after ``transient_revolutions``."""
+    step); the body's frozen-geometry rates are drawn as ``[body]`` says."""
 
     kind: Literal["stepwise"] = "stepwise"
-    bodies: ClassVar[tuple] = ("disk_wheel", "wheelset", "vehicle_track")
-    disk_wheel_only: ClassVar[tuple] = ("revolutions", "transient_revolutions")
+    needs: ClassVar[str] = "rates"
     step_limit_um: Annotated[float, Field(gt=0, le=1e6)] = 10.0
     step_limit_on: Literal["u", "shape"] = "u"
     scheme: Literal["euler", "adams-bashforth"] = "euler"
-    samples: Annotated[int, Field(ge=2, le=100000)] = 8
-    revolutions: Annotated[int, Field(ge=1, le=100000)] = 4
-    transient_revolutions: Revolutions = 4
 
 
 @strategy_section
 class DirectSection(StrategySection):
-    """Direct coupled integration: ``acceleration_factor`` on the wear coefficient (>= 1); on the
-    disk wheel the surface updated ``updates_per_revolution`` times a revolution after
-    ``transient_revolutions`` without wear."""
+    """Direct coupled integration: ``acceleration_factor`` on the wear coefficient (>= 1); the
+    body's coupled segments as ``[body]`` says."""
 
     kind: Literal["direct"] = "direct"
-    bodies: ClassVar[tuple] = ("disk_wheel", "wheelset", "vehicle_track")
-    disk_wheel_only: ClassVar[tuple] = ("updates_per_revolution", "transient_revolutions")
+    needs: ClassVar[str] = "segment"
     acceleration_factor: Annotated[float, Field(ge=1, le=1e9, allow_inf_nan=False)] = 100.0
-    updates_per_revolution: Annotated[int, Field(ge=1, le=1000)] = 1
-    transient_revolutions: Revolutions = 4
 
 
-class DiskWheel(_Section):
-    """Vertical and rotational dynamics of the disk wheel (paper Fig. 5), for the Fourier strategy.
+class BodySection(_Section):
+    """``[body]``: what wears, named by ``kind``, with its own fields (a field of another kind is
+    an error). A body section says what it ``provides`` (keys of :data:`NEEDS`), which of its
+    fields serve only some needs (``serves``: field -> needs; other fields always apply), which
+    other sections it reads (``sections``, e.g. ``("track",)``), whether it starts from its new
+    state rather than ``[initial]`` (``starts_new``) and whether the direct strategy saves after
+    every segment (``saves_every_segment``). A new body registers its section with
+    :func:`body_section`; ``build(scenario, speed)`` returns the
+    :class:`~railwear.longterm.base.Body` and ``linear_model(scenario, speed)`` the linear model
+    with its wear band (m)."""
 
-    The wheel mass is ``wheel.unsprung_mass_kg``; radius, load, contact and traction come from
-    ``[wheel]`` and ``[contact]``. A rail mass on pads gives the P2 resonance.
-    """
+    kind: str
+    provides: ClassVar[frozenset] = frozenset()
+    serves: ClassVar[dict] = {}
+    sections: ClassVar[tuple] = ()
+    starts_new: ClassVar[bool] = False
+    saves_every_segment: ClassVar[bool] = False
+    label: ClassVar[str] = ""
 
-    wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = 80.0
-    primary_stiffness_N_m: Stiffness = 1.2e6
-    primary_damping_N_s_m: Damping = 2e4
-    sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = None  # up to a loaded wagon
-    rail_mass_kg: Mass | None = 150.0
-    pad_stiffness_N_m: Annotated[float, Field(ge=1e3, le=1e10)] = 1e8  # 1e11: the Fourier rates overflow
-    pad_damping_N_s_m: Damping = 6e4
+    def build(self, scenario, speed=None):
+        """The long-term body at ``speed`` (m/s; default the service mean)."""
+        raise NotImplementedError(f"body {self.kind!r} gives no {NEEDS['rates']}")
+
+    def linear_model(self, scenario, speed):
+        """``(model, band_width)``: the linearisable model at ``speed`` (m/s) and its wear band (m)."""
+        raise NotImplementedError(f"body {self.kind!r} gives no {NEEDS['linear_model']}")
+
+    def growth_map(self, scenario, speeds, orders):
+        """Fourier growth rate (1/km) over ``speeds`` (m/s) x ``orders`` on :meth:`linear_model`."""
+        from railwear.longterm.fourier import stability_map
+
+        band = self.linear_model(scenario, speeds[0])[1]
+        return stability_map(lambda v: self.linear_model(scenario, v)[0], speeds, orders, scenario.wear.build(), band)
 
 
-class Vehicle(_Section):
-    """``[vehicle]``: what sits on one wheel of body ``"vehicle_track"`` (the vertical disk wheel
-    of ``[disk_wheel]`` without its rail: the rail is ``[track]``'s). The unsprung mass, radius and
-    load are ``[wheel]``'s; per wheel: the polar inertia (half the wheelset's), the primary
-    suspension to the bogie frame's share ``sprung_mass_kg`` (none: a rigid frame); flexible modes
-    of the wheelset as modal data, one entry per mode in ``wheel_mode_frequencies_hz``,
-    ``wheel_mode_masses_kg`` (modal mass at the contact point) and ``wheel_mode_damping_ratios``
-    (none by default). Defaults: the metro motor car of docs/vehicle_track.md (Math. Probl. Eng. 2020, 1584624, Table 6)."""
+BODY_SECTIONS: dict = {}
 
-    wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = 60.0
-    sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = 855.0
-    primary_stiffness_MN_m: Annotated[float, Field(ge=0, le=1e3)] = 1.7
-    primary_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 10.0
-    wheel_mode_frequencies_hz: Annotated[list[Annotated[float, Field(ge=1, le=1e4)]], Field(max_length=100)] = []
-    wheel_mode_masses_kg: Annotated[list[Annotated[float, Field(ge=1, le=1e5)]], Field(max_length=100)] = []
-    wheel_mode_damping_ratios: Annotated[list[Annotated[float, Field(ge=0, le=1)]], Field(max_length=100)] = []
 
-    @model_validator(mode="after")
-    def _modes(self):
-        modes = len(self.wheel_mode_frequencies_hz)
-        for name in ("wheel_mode_masses_kg", "wheel_mode_damping_ratios"):
-            if len(getattr(self, name)) != modes:
-                raise refuse(name, f"give one value per mode in wheel_mode_frequencies_hz ({modes}), "
-                                   f"not {len(getattr(self, name))}")
-        return self
+def body_section(cls):
+    """Register a ``[body]`` section class under the default of its ``kind`` field."""
+    unknown = sorted(set(cls.provides) - set(NEEDS)) + sorted(
+        n for needs in cls.serves.values() for n in needs if n not in NEEDS)
+    if unknown:
+        raise TypeError(f"body section {cls.__name__}: {unknown[0]!r} is not one of {', '.join(NEEDS)}")
+    BODY_SECTIONS[cls.model_fields["kind"].default] = cls
+    return cls
 
 
 class TrackSection(_Section):
@@ -508,7 +504,7 @@ class TrackSection(_Section):
         return self
 
 
-class Wheelset(_Section):
+class WheelsetSuspension(_Section):
     """A suspended wheelset on straight track, for hunting (critical-speed) maps.
 
     The rolling radius is ``wheel.radius_m``; Kalker's coefficients come from the Hertz patch of
@@ -522,69 +518,6 @@ class Wheelset(_Section):
     yaw_stiffness_N_m_rad: Stiffness = 3.646e6
     half_gauge_m: Annotated[float, Field(ge=0.15, le=1.5)] = 0.7163  # 300 mm gauge to twice broad gauge
     conicity: Annotated[float, Field(gt=0, le=1)] = 0.05
-
-
-class WheelsetWear(_Section):
-    """Long-term wear of the wheelset on real profiles (``[strategy] body = "wheelset"``): the
-    worn lateral profile over distance and the angular pattern at the end.
-
-    The suspension is ``[wheelset]`` (mass, yaw inertia, stiffnesses; its conicity and half gauge
-    are not used: the contact table of the profiles gives the geometry), the speed
-    ``operation.speed_kmh`` (one), friction and elasticity ``[contact]``, the nominal rolling
-    radius ``wheel.radius_m``, the axle load twice ``wheel.static_load_kN``, the energy law
-    ``[wear]``, one unit of normed time ``operation.life_distance_km``, the run to
-    ``solver.t_end`` or ``solver.depth_limit_mm``, the seed ``service.seed``. Stepwise:
-    ``strategy.step_limit_um`` per step on the lateral profile, ``strategy.samples`` random starts
-    of ``seconds_per_sample_s`` each; direct: ``strategy.acceleration_factor``, the profile and
-    the contact table updated every ``update_interval_s`` of simulated time. Example::
-
-        [strategy]
-        kind = "stepwise"
-        body = "wheelset"
-        step_limit_um = 1.0
-        samples = 2
-
-        [wheelset_wear]
-        wheel_profile = "S1002"
-        rail_profile = "UIC60"
-        seconds_per_sample_s = 1.0
-
-    ``wheel_profile``/``rail_profile`` a built-in name (S1002, UIC60) or a SIMPACK profile file;
-    ``shift_max_mm``/``shift_step_mm`` the table's lateral shifts; ``lateral_min_mm``,
-    ``lateral_max_mm``, ``lateral_cells`` and ``angle_cells`` the wear surface on the wheel
-    profile; ``transient_s`` run before wear is gathered; each run starts from rest at a random
-    lateral offset between ``offset_min_mm`` and ``offset_max_mm`` (random sign);
-    ``output_rate_Hz`` the output times of the dynamics per simulated second.
-    ``contact_model`` the tables' contact (``contact_table``): "hertz", "multi-hertz" or "semi-hertzian".
-    """
-
-    wheel_profile: PathText = "S1002"
-    rail_profile: PathText = "UIC60"
-    shift_max_mm: Annotated[float, Field(gt=0, le=50, allow_inf_nan=False)] = 10.0
-    shift_step_mm: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)] = 0.1
-    lateral_min_mm: Annotated[float, Field(ge=-200, le=200)] = -50.0  # a tread is ~140 mm wide
-    lateral_max_mm: Annotated[float, Field(ge=-200, le=200)] = 40.0
-    lateral_cells: Annotated[int, Field(ge=2, le=10000)] = 180
-    angle_cells: Annotated[int, Field(ge=4, le=100000)] = 64
-    transient_s: Annotated[float, Field(ge=0, le=3600)] = 3.0  # simulated seconds: an hour is plenty
-    offset_min_mm: Annotated[float, Field(ge=0, le=50)] = 1.0  # past the flange at ~10 mm
-    offset_max_mm: Annotated[float, Field(ge=0, le=50)] = 3.0
-    output_rate_Hz: Annotated[float, Field(ge=1, le=1e6)] = 2000.0
-    footprint: Literal["hertz", "uniform"] = "hertz"
-    contact_model: Literal["hertz", "multi-hertz", "semi-hertzian"] = "hertz"
-    seconds_per_sample_s: Annotated[float, Field(gt=0, le=3600)] = 2.0
-    update_interval_s: Annotated[float, Field(ge=1e-4, le=3600)] = 0.5
-
-    @model_validator(mode="after")
-    def _ranges(self):
-        if not self.lateral_min_mm < self.lateral_max_mm:
-            raise refuse("lateral_min_mm", f"lateral_min_mm must be below lateral_max_mm ({self.lateral_min_mm:g} mm "
-                                           f">= {self.lateral_max_mm:g} mm)")
-        if self.offset_min_mm > self.offset_max_mm:
-            raise refuse("offset_min_mm", f"must not exceed offset_max_mm ({self.offset_max_mm:g})")
-        if self.shift_step_mm > self.shift_max_mm:
-            raise refuse("shift_step_mm", f"must not exceed shift_max_mm ({self.shift_max_mm:g})")
-        return self
 
 
 class Service(_Section):
@@ -614,8 +547,58 @@ class Service(_Section):
         return self
 
 
+OLD_BODY_SECTIONS = {"disk_wheel": "disk_wheel", "vehicle_track": "vehicle", "wheelset": "wheelset_wear"}
+OLD_BODY_SETTINGS = ("samples", "revolutions", "transient_revolutions", "updates_per_revolution")
+EQUATION_DEFAULTS = {"multiplier": {"epsilon": 0.0, "nu": 0.0}}  # [solver] defaults that differ by strategy
+
+
+def _strategy_defaults(data):
+    """``[solver]`` defaults of the strategy (:data:`EQUATION_DEFAULTS`) written into plain
+    ``data``, so that the scenario's text says what runs and round-trips to the same problem."""
+    strategy, solver = data.get("strategy"), data.get("solver", {})
+    kind = strategy.get("kind") if isinstance(strategy, dict) else None
+    if isinstance(kind, str) and kind in EQUATION_DEFAULTS and isinstance(solver, dict):
+        data["solver"] = {**EQUATION_DEFAULTS[kind], **solver}
+    return data
+
+
+def _new_layout(data):
+    """Plain scenario ``data`` in the layout before ``[body]`` (``[strategy] body`` with the body
+    settings under ``[strategy]``, and ``[disk_wheel]``, ``[vehicle]`` or ``[wheelset_wear]``)
+    moved to ``[body]``, with a :class:`~railwear.errors.ScenarioLayoutWarning` saying so."""
+    strategy = data.get("strategy") if isinstance(data.get("strategy"), dict) else {}
+    old = [f"[{k}]" for k in OLD_BODY_SECTIONS.values() if k in data] + [
+        f"strategy.{k}" for k in ("body",) + OLD_BODY_SETTINGS if k in strategy]
+    if not old or not isinstance(data.get("body", {}), dict):
+        return data
+    data, strategy, body = dict(data), dict(strategy), dict(data.get("body", {}))
+    kind = strategy.pop("body", body.get("kind", "disk_wheel"))
+    if body.get("kind", kind) != kind:
+        raise refuse(("strategy", "body"), f"is body.kind now, which says {body['kind']!r}; give it once")
+    moved = {name: strategy.pop(name) for name in OLD_BODY_SETTINGS if name in strategy}
+    section = OLD_BODY_SECTIONS.get(kind) if isinstance(kind, str) else None
+    for name, owner in OLD_BODY_SECTIONS.items():
+        if owner in data and owner != section:
+            raise refuse((owner,), f"applies to body {name!r} only (now [body] kind = {name!r})")
+    if section in data:
+        if not isinstance(data[section], dict):
+            raise refuse((section,), "should be a table")
+        moved.update(data.pop(section))
+    for name, value in moved.items():
+        if name in body:
+            raise refuse(("body", name), f"given twice: here and in the layout before [body] ({', '.join(old)})")
+        body[name] = value
+    if "strategy" in data:
+        data["strategy"] = strategy
+    data["body"] = {"kind": kind, **body}
+    warnings.warn(f"scenario layout before [body]: {', '.join(old)} read as [body] kind = {kind!r} "
+                  "(railwear show NAME prints the new layout)", ScenarioLayoutWarning, stacklevel=2)
+    return data
+
+
 class Scenario(_Section):
-    """A whole railwear run: wheel, contact, wear, operation, h, solver and initial state."""
+    """A whole railwear run: wheel, contact, wear, operation, h, solver, initial state, the
+    strategy and the body it wears."""
 
     name: Name = "unnamed"
     description: Text = ""
@@ -628,18 +611,35 @@ class Scenario(_Section):
     initial: Initial = Initial()
     service: Service = Service()
     strategy: SerializeAsAny[StrategySection] = PhenomenologicalSection()
-    disk_wheel: DiskWheel = DiskWheel()
-    wheelset: Wheelset = Wheelset()
-    wheelset_wear: WheelsetWear = WheelsetWear()
-    vehicle: Vehicle = Vehicle()
+    body: SerializeAsAny[BodySection] = Field(default=None, validate_default=True)
+    wheelset: WheelsetSuspension = WheelsetSuspension()
     track: TrackSection = TrackSection()
 
     _wear = field_validator("wear", mode="before")(_section_of(WEAR_SECTIONS, "law", "energy", "wear law"))
     _strategy = field_validator("strategy", mode="before")(
         _section_of(STRATEGY_SECTIONS, "kind", "phenomenological", "strategy kind"))
+    _body = field_validator("body", mode="before")(_section_of(BODY_SECTIONS, "kind", "disk_wheel", "body kind"))
+
+    @model_validator(mode="before")
+    @classmethod
+    def _layout(cls, data):
+        if not isinstance(data, dict):
+            return data
+        return _strategy_defaults(_new_layout(data))
 
     @model_validator(mode="after")
     def _applies(self):
+        need, body = self.strategy.needs, self.body
+        if need is not None and need not in body.provides:
+            able = [k for k, c in BODY_SECTIONS.items() if need in c.provides]
+            raise refuse(("body", "kind"), f"the {self.strategy.kind} strategy needs {NEEDS[need]}, which body "
+                                           f"{body.kind!r} does not give; bodies that do: {', '.join(able)}")
+        for name in sorted(body.model_fields_set):
+            serves = body.serves.get(name)
+            if serves is not None and need not in serves:
+                kinds = [k for k, c in STRATEGY_SECTIONS.items() if c.needs in serves]
+                raise refuse(("body", name), f"applies to the {' and '.join(kinds)} "
+                                             f"strateg{'ies' if len(kinds) > 1 else 'y'} only, not {self.strategy.kind!r}")
         for section, names, applies, to in self._only_for():
             given = getattr(self, section).model_fields_set & set(names or type(getattr(self, section)).model_fields)
             if given and not applies:
@@ -650,7 +650,7 @@ class Scenario(_Section):
 
     def _orders_on_grid(self):
         """The initial orders resolved on ``solver.points``: below the Nyquist order ``points / 2``."""
-        if self.strategy.body == "wheelset":  # starts from the new profile
+        if self.body.starts_new:
             return
         init, points = self.initial, self.solver.points
         top = points // 2 - 1
@@ -673,25 +673,26 @@ class Scenario(_Section):
                          f"steps, more than {MAX_LONGTERM_STEPS:.0e}: at least {depth * 1e3 / MAX_LONGTERM_STEPS:g} um")
 
     def _only_for(self):
-        """(section, fields or None for all, whether they apply, to what)."""
-        kind, body = self.strategy.kind, self.strategy.body
-        equation = kind in ("phenomenological", "multiplier")
-        return (("solver", ("epsilon", "nu", "dealias", "dt"), equation, "the phenomenological and multiplier strategies"),
-                ("wear_rate", None, kind == "phenomenological", "the phenomenological strategy"),
-                ("solver", ("peak_to_peak_limit_mm",), kind in ("fourier", "multiplier"),
-                 "the fourier and multiplier strategies"),
-                ("disk_wheel", None, body == "disk_wheel", "body 'disk_wheel'"),
-                ("wheelset_wear", None, body == "wheelset", "body 'wheelset'"),
-                ("vehicle", None, body == "vehicle_track", "body 'vehicle_track'"),
-                ("track", None, body == "vehicle_track", "body 'vehicle_track'"))
+        """(section, fields or None for all, whether they apply, to what) of the parts of a
+        scenario that only some strategies (:attr:`StrategySection.reads`) or bodies
+        (:attr:`BodySection.sections`) read."""
+        out = []
+        for part in OPTIONAL_PARTS:
+            section, _, name = part.partition(".")
+            kinds = [k for k, c in STRATEGY_SECTIONS.items() if part in c.reads]
+            bodies = [f"body {k!r}" for k, c in BODY_SECTIONS.items() if part in c.sections]
+            to = [f"the {' and '.join(kinds)} strateg{'ies' if len(kinds) > 1 else 'y'}"] if kinds else []
+            applies = part in self.strategy.reads or part in self.body.sections
+            out.append((section, (name,) if name else None, applies, " and ".join(to + bodies)))
+        return tuple(out)
 
     def applicable(self, **dump):
         """The scenario as plain data (``model_dump`` options ``dump``; default JSON types without
         ``None``) without the fields that do not apply to its strategy and body."""
         data = self.model_dump(**{"mode": "json", "exclude_none": True, **dump})
-        if self.strategy.body == "wheelset":
-            for name in self.strategy.disk_wheel_only:
-                data["strategy"].pop(name)
+        for name, serves in self.body.serves.items():
+            if self.strategy.needs not in serves:
+                data["body"].pop(name, None)
         for section, names, applies, _ in self._only_for():
             if not applies:
                 for name in names or list(data[section]):

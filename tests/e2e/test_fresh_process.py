@@ -98,7 +98,7 @@ def metro_on_the_ring_track(directory):
     data = tomllib.loads(to_toml(load_scenario("metro")))
     data["solver"].pop("peak_to_peak_limit_mm")
     data["solver"].update(t_end=0.02, points=256)
-    data["strategy"] = {"kind": "direct", "body": "vehicle_track", "acceleration_factor": 2e4}
+    data["strategy"] = {"kind": "direct", "acceleration_factor": 2e4}
     path = directory / "metro-ring.toml"
     path.write_text(tomli_w.dumps(data), encoding="utf-8")
     return path.name

@@ -9,11 +9,11 @@ from railwear.scenario.schema import StrategySection, strategy_section
 
 @strategy_section
 class FrozenSection(StrategySection):
-    """``kind = "frozen"``: the start's rate over ``samples`` draws, on either body."""
+    """``kind = "frozen"``: the start's rate, drawn as ``[body]`` says, on any body that gives
+    frozen-geometry rates."""
 
     kind: Literal["frozen"] = "frozen"
-    bodies: ClassVar[tuple] = ("disk_wheel", "wheelset")
-    samples: int = 8
+    needs: ClassVar[str] = "rates"
 
 
 @build.builds("frozen")

@@ -37,11 +37,11 @@ def test_a_fifth_strategy_runs_from_a_scenario_and_is_one_euler_step(frozen_kind
     """``kind = "frozen"`` on the disk wheel: the same draws as a stepwise run whose step limit
     never binds (one Euler step to the end), so the same worn wheel to the bit; the result keeps
     the contract and the scenario round-trips."""
-    sc = _as("stepwise", kind="frozen", samples=2)
+    sc = _as("stepwise", kind="frozen")
     assert parse_scenario(to_toml(sc)) == sc
     ds = railwear.run(sc)
     assert ds.attrs["strategy"] == "frozen" and ds.sizes["time"] == 2
-    one_step = railwear.run(_as("stepwise", kind="stepwise", samples=2, step_limit_um=1e6))
+    one_step = railwear.run(_as("stepwise", kind="stepwise", step_limit_um=1e6))
     np.testing.assert_array_equal(ds.u.values[-1], one_step.u.values[-1])
     assert float(ds.removed_depth[-1]) == pytest.approx(1e-3, rel=1e-9)
     with pytest.raises(ScenarioError, match="step_limit_um: does not apply to kind 'frozen'"):
@@ -50,7 +50,7 @@ def test_a_fifth_strategy_runs_from_a_scenario_and_is_one_euler_step(frozen_kind
 
 def test_the_fifth_strategy_runs_on_the_wheelset_too(frozen_kind):
     data = load_scenario("wheelset-wear").applicable()
-    data["strategy"] = {"kind": "frozen", "body": "wheelset", "samples": 2}
+    data["strategy"] = {"kind": "frozen"}
     data["solver"]["t_end"] = 0.01
     import tomli_w
 

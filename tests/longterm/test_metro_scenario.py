@@ -24,7 +24,7 @@ def metro():
 
 
 def test_scenario_builds_the_documented_metro_case():
-    """The scenario's [wheel], [contact], [vehicle] and [track] are METRO's numbers: the same
+    """The scenario's [wheel], [contact], [body] and [track] are METRO's numbers: the same
     Fourier rates at 70 km/h to 1e-12 (orders 1-40)."""
     sc = load_scenario("metro")
     orders = np.arange(1, 41)
@@ -73,12 +73,11 @@ def _metro(edit):
 
 def test_track_and_vehicle_sections_apply_to_their_body_only():
     def disk(data):
-        data["strategy"]["body"] = "disk_wheel"
-        del data["vehicle"]
+        data["body"] = {"kind": "disk_wheel"}
 
     def phenomenological(data):
         data["strategy"] = {"kind": "phenomenological"}
-        del data["vehicle"], data["track"]
+        del data["body"], data["track"]
 
     with pytest.raises(ScenarioError, match=r"track\.\w+: applies to body 'vehicle_track' only"):
         _metro(disk)
@@ -146,19 +145,21 @@ def test_track_receptance_marks_the_pinned_pinned_and_p2_frequencies():
     assert f[np.argmax(mid)] == pytest.approx(fpp, rel=0.005)
     assert 1.02 * fpp < f[np.argmin(sleeper)] < 1.06 * fpp
     assert float(ds.p2_frequency) == pytest.approx(55.7, abs=0.1)
-    with pytest.raises(ScenarioError, match="strategy.body"):
+    with pytest.raises(ScenarioError, match="body.kind"):
         railwear.track_receptance("linear-dynamics")
 
 
-def test_wheel_modes_from_the_vehicle_section():
+def test_wheel_modes_from_the_body_section():
     def modes(data):
-        data["vehicle"].update(wheel_mode_frequencies_hz=[580.0], wheel_mode_masses_kg=[500.0],
+        data["body"].update(wheel_mode_frequencies_hz=[580.0], wheel_mode_masses_kg=[500.0],
                                wheel_mode_damping_ratios=[0.01])
 
-    assert build.vehicle_case(_metro(modes)).wheel_modes == ((580.0, 500.0, 0.01),)
-    assert build.vehicle_case(load_scenario("metro")).wheel_modes == ()
+    sc = _metro(modes)
+    assert sc.body.case(sc).wheel_modes == ((580.0, 500.0, 0.01),)
+    sc = load_scenario("metro")
+    assert sc.body.case(sc).wheel_modes == ()
     with pytest.raises(ScenarioError, match="one value per mode"):
-        _metro(lambda d: d["vehicle"].update(wheel_mode_frequencies_hz=[580.0]))
+        _metro(lambda d: d["body"].update(wheel_mode_frequencies_hz=[580.0]))
 
 
 def test_track_command_writes_receptance_and_figure_and_plot_redraws_it(tmp_path):
@@ -175,7 +176,7 @@ def test_track_command_writes_receptance_and_figure_and_plot_redraws_it(tmp_path
     (tmp_path / "track.png").unlink()
     assert runner.invoke(app, ["plot", str(tmp_path / "track.nc")]).exit_code == 0 and (tmp_path / "track.png").exists()
     r = runner.invoke(app, ["track", "linear-dynamics", "-o", str(tmp_path)])
-    assert r.exit_code == 2 and "strategy.body" in r.output
+    assert r.exit_code == 2 and "body.kind" in r.output
 
 
 def test_multiplier_strategy_from_the_scenario_on_the_metro_case():
@@ -185,7 +186,7 @@ def test_multiplier_strategy_from_the_scenario_on_the_metro_case():
     (3.3 % of the shape's rms measured; between 0.3 and 5 % asserted) that keeps order 8."""
     def edit(kind, local=None):
         def apply(data):
-            data["strategy"] = {"kind": kind, "body": "vehicle_track", **({"local": local} if local else {})}
+            data["strategy"] = {"kind": kind, **({"local": local} if local else {})}
             data["solver"].pop("peak_to_peak_limit_mm")
             data["solver"]["t_end"] = 1.5
         return apply
@@ -207,11 +208,12 @@ def test_direct_and_stepwise_on_the_time_domain_track_from_the_scenario():
     """[strategy] kind = "direct" / "stepwise" with body "vehicle_track" run the wheel on the ring
     track (docs/vehicle_track_time.md): over 10 000 km the direct run's growth of orders 6, 8 and 9
     is the Fourier technique's within 5 % (measured 0.1-2.6 %); stepwise runs on the same body."""
-    def edit(kind, t_end=0.1, **extra):
+    def edit(kind, t_end=0.1, body=None, **extra):
         def apply(data):
             data["solver"].pop("peak_to_peak_limit_mm")
             data["solver"].update(t_end=t_end, points=256)
-            data["strategy"] = {"kind": kind, "body": "vehicle_track", **extra}
+            data["strategy"] = {"kind": kind, **extra}
+            data["body"].update(body or {})
         return apply
 
     orders = [6, 8, 9]
@@ -223,11 +225,11 @@ def test_direct_and_stepwise_on_the_time_domain_track_from_the_scenario():
     fourier = railwear.run(_metro(edit("fourier")))
     assert direct.attrs["body"] == "vehicle_track" and float(direct.distance[-1]) == pytest.approx(1e4)
     np.testing.assert_allclose(rates(direct), rates(fourier), rtol=0.05)
-    stepwise = railwear.run(_metro(edit("stepwise", t_end=0.01, step_limit_um=0.2, samples=2)))
+    stepwise = railwear.run(_metro(edit("stepwise", t_end=0.01, step_limit_um=0.2, body={"samples": 2})))
     assert stepwise.attrs["strategy"] == "stepwise" and stepwise.attrs["body"] == "vehicle_track"
     with pytest.raises(ScenarioError, match="wheel_mode_frequencies_hz"):
         def modes(data):
             edit("direct")(data)
-            data["vehicle"].update(wheel_mode_frequencies_hz=[580.0], wheel_mode_masses_kg=[500.0],
-                                   wheel_mode_damping_ratios=[0.01])
+            data["body"].update(wheel_mode_frequencies_hz=[580.0], wheel_mode_masses_kg=[500.0],
+                                wheel_mode_damping_ratios=[0.01])
         railwear.run(_metro(modes))

@@ -32,7 +32,7 @@ def test_builtin_stepwise_and_direct_agree_on_the_p2_order():
     ("step_limit_um = 25.0", "step_limit_um = 0.0", "strategy.step_limit_um"),
     ("step_limit_um = 25.0", "step_limit_um = -5.0", "strategy.step_limit_um"),
     ("speed_weights = [0.25, 0.5, 0.25]", "speed_weights = [0.25, 0.5, 0.3]", "service"),
-    ("samples = 2", "samples = 1", "strategy.samples"),
+    ("samples = 2", "samples = 1", "body.samples"),
 ])
 def test_bad_stepwise_input_is_refused_before_any_run(old, new, field):
     with pytest.raises(ScenarioError, match=field.replace(".", r"\.")):

@@ -68,7 +68,7 @@ def test_the_any_law_path_converges_at_second_order_and_meets_the_compiled_energ
 
 def _edited(name, wear, solver=None, strategy=None):
     """Built-in ``name`` with a new ``[wear]`` section and solver / strategy fields."""
-    sc = load_scenario(name)
+    sc = load_scenario(name, {"strategy.kind": strategy["kind"]} if strategy and "kind" in strategy else {})
     data = sc.applicable()
     data["wear"] = wear
     data["solver"].update(solver or {})
@@ -96,8 +96,7 @@ def test_disk_wheel_runs_each_law_from_a_scenario_and_removes_its_volume(name, s
 @pytest.mark.parametrize("wear", LAWS, ids=["archard", "usfd"])
 @pytest.mark.parametrize("kind", ["stepwise", "direct"])
 def test_wheelset_runs_each_law_from_a_scenario_and_removes_its_volume(kind, wear):
-    strategy = {"kind": kind, "body": "wheelset"}
-    strategy.update({"acceleration_factor": 2e5} if kind == "direct" else {"samples": 2, "step_limit_um": 1.0})
+    strategy = {"kind": kind, **({"acceleration_factor": 2e5} if kind == "direct" else {"step_limit_um": 1.0})}
     ds = railwear.run(_edited("wheelset-wear", wear, {"t_end": 0.002}, strategy))
     assert ds.attrs["wear_law"] == wear["law"]
     np.testing.assert_allclose(ds.removed_volume.values, ds.law_volume.values, rtol=1e-12, atol=0)
@@ -121,7 +120,8 @@ def test_a_wheelset_run_deposits_the_trapezoidal_integral_of_the_law(profiles_pr
 def profiles_problem():
     from railwear.scenario import build
 
-    return build.wheelset_wear(load_scenario("wheelset-wear"))
+    sc = load_scenario("wheelset-wear")
+    return sc.body.problem(sc)
 
 
 def test_a_law_without_its_fields_or_of_another_law_is_refused_in_one_line():

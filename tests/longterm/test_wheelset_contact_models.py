@@ -202,7 +202,7 @@ def test_a_bad_contact_model_is_a_one_line_error(tables):
     assert "\n" not in str(err.value) and "'kalker'" in str(err.value)
     text = builtin_text("wheelset-wear").replace('rail_profile = "UIC60"\n',
                                                   'rail_profile = "UIC60"\ncontact_model = "kalker"\n')
-    with pytest.raises(ScenarioError, match="wheelset_wear.contact_model") as err:
+    with pytest.raises(ScenarioError, match="body.contact_model") as err:
         parse_scenario(text)
     assert "\n" not in str(err.value)
 
@@ -211,10 +211,12 @@ def test_the_scenario_builds_the_problem_on_its_contact_model():
     """[wheelset_wear] contact_model reaches the model's table and the problem's tables."""
     text = builtin_text("wheelset-wear").replace('rail_profile = "UIC60"\n',
                                                   'rail_profile = "UIC60"\ncontact_model = "semi-hertzian"\n')
-    p = build.wheelset_wear(parse_scenario(text))
+    sc = parse_scenario(text)
+    p = sc.body.problem(sc)
     assert p.contact_model == "semi-hertzian" and p.model.table.attrs["contact_model"] == "semi-hertzian"
     assert p.table(np.zeros(p.lateral.size)).attrs["contact_model"] == "semi-hertzian"
-    assert build.wheelset_wear(parse_scenario(builtin_text("wheelset-wear"))).contact_model == "hertz"
+    sc = parse_scenario(builtin_text("wheelset-wear"))
+    assert sc.body.problem(sc).contact_model == "hertz"
 
 
 def test_without_strips_the_points_wear_under_their_ellipses_as_before(tables):

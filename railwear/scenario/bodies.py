@@ -1,0 +1,278 @@
+"""The built-in ``[body]`` sections, each with its builder: the disk wheel, the wheel on the
+track and the wheelset on real profiles (see :class:`~railwear.scenario.schema.BodySection`).
+
+A section's fields are the body's own; ``build(scenario, speed)`` returns the long-term
+:class:`~railwear.longterm.base.Body`, ``linear_model(scenario, speed)`` the linear model of the
+Fourier technique and the multiplier law with its wear band (m). Units convert here.
+"""
+
+from typing import Annotated, ClassVar, Literal
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from railwear.errors import ScenarioError
+from railwear.scenario import build
+from railwear.scenario.schema import (BodySection, Damping, Mass, PathText, Stiffness, body_section, refuse)
+from railwear.units import GPA, KN, MM, MN, UM
+
+Revolutions = Annotated[int, Field(ge=0, le=100000)]
+Samples = Annotated[int, Field(ge=2, le=100000)]  # Monte Carlo draws per frozen-geometry step: 2 for a variance
+
+
+class RollingWheel(BodySection):
+    """A wheel rolling over its angle: ``samples`` draws of phase and speed (from ``[service]``)
+    per frozen-geometry step, each of ``revolutions`` after ``transient_revolutions`` without
+    wear; the coupled run updates the surface ``updates_per_revolution`` times a revolution after
+    ``transient_revolutions``."""
+
+    samples: Samples = 8
+    revolutions: Annotated[int, Field(ge=1, le=100000)] = 4
+    transient_revolutions: Revolutions = 4
+    updates_per_revolution: Annotated[int, Field(ge=1, le=1000)] = 1
+
+    provides: ClassVar[frozenset] = frozenset({"rates", "segment", "linear_model"})
+    serves: ClassVar[dict] = {"samples": ("rates",), "revolutions": ("rates",),
+                              "transient_revolutions": ("rates", "segment"), "updates_per_revolution": ("segment",)}
+
+    def settings(self):
+        """The run settings the long-term disk wheel takes."""
+        return {k: getattr(self, k) for k in ("revolutions", "transient_revolutions", "samples",
+                                              "updates_per_revolution")}
+
+
+@body_section
+class DiskWheelSection(RollingWheel):
+    """``kind = "disk_wheel"``: vertical and rotational dynamics of the disk wheel (paper Fig. 5)
+    on a rail mass on pads (the P2 resonance). The wheel mass is ``wheel.unsprung_mass_kg``;
+    radius, load, contact and traction come from ``[wheel]`` and ``[contact]``."""
+
+    kind: Literal["disk_wheel"] = "disk_wheel"
+    wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = 80.0
+    primary_stiffness_N_m: Stiffness = 1.2e6
+    primary_damping_N_s_m: Damping = 2e4
+    sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = None  # up to a loaded wagon
+    rail_mass_kg: Mass | None = 150.0
+    pad_stiffness_N_m: Annotated[float, Field(ge=1e3, le=1e10)] = 1e8  # 1e11: the Fourier rates overflow
+    pad_damping_N_s_m: Damping = 6e4
+
+    label: ClassVar[str] = "disk-wheel dynamics"
+
+    def model(self, scenario, speed):
+        """The :class:`~railwear.dynamics.DiskWheelModel` at ``speed`` (m/s), with Hertz and Kalker constants."""
+        from railwear.dynamics import DiskWheelModel, contact_constants
+
+        w, c = scenario.wheel, scenario.contact
+        load = w.static_load_kN * KN
+        constants = contact_constants(load, 1 / (2 * w.radius_m), 1 / (2 * c.rail_head_radius_m),
+                                      c.youngs_modulus_GPa * GPA, c.poisson)
+        return DiskWheelModel(
+            speed=float(speed), radius=w.radius_m, wheel_mass=w.unsprung_mass_kg,
+            wheel_inertia=self.wheel_inertia_kg_m2, static_load=load,
+            hertz_constant=constants["hertz_constant"], primary_stiffness=self.primary_stiffness_N_m,
+            primary_damping=self.primary_damping_N_s_m, f11=constants["f11"],
+            sprung_mass=self.sprung_mass_kg, rail_mass=self.rail_mass_kg, pad_stiffness=self.pad_stiffness_N_m,
+            pad_damping=self.pad_damping_N_s_m, friction_coefficient=c.friction_coefficient,
+            traction_torque=c.traction_coefficient * load * w.radius_m,
+            patch_half_length=constants["patch_half_length"])
+
+    def build(self, scenario, speed=None):
+        from railwear.longterm.disk_wheel import DiskWheel
+        from railwear.longterm.disk_wheel_state import StatefulDiskWheel
+
+        service, law = build.service_speeds(scenario), build.wear_law(scenario)
+        model = self.model(scenario, service.mean if speed is None else speed)
+        args = (model, law, build.band_width(scenario), build.life_distance(scenario), service)
+        if getattr(law, "stateful", False):
+            return StatefulDiskWheel(*args, **self.settings(), state_scale=scenario.wear.state_scale_um * UM)
+        return DiskWheel(*args, **self.settings())
+
+    def linear_model(self, scenario, speed):
+        return self.model(scenario, speed), build.band_width(scenario)
+
+
+@body_section
+class VehicleTrackSection(RollingWheel):
+    """``kind = "vehicle_track"``: one wheel of a vehicle on the rail of ``[track]``. The unsprung
+    mass, radius and load are ``[wheel]``'s; per wheel: the polar inertia (half the wheelset's),
+    the primary suspension to the bogie frame's share ``sprung_mass_kg`` (none: a rigid frame);
+    flexible modes of the wheelset as modal data, one entry per mode in
+    ``wheel_mode_frequencies_hz``, ``wheel_mode_masses_kg`` (modal mass at the contact point) and
+    ``wheel_mode_damping_ratios`` (the Fourier technique and the multiplier only). Defaults: the
+    metro motor car of docs/vehicle_track.md (Math. Probl. Eng. 2020, 1584624, Table 6)."""
+
+    kind: Literal["vehicle_track"] = "vehicle_track"
+    wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = 60.0
+    sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = 855.0
+    primary_stiffness_MN_m: Annotated[float, Field(ge=0, le=1e3)] = 1.7
+    primary_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 10.0
+    wheel_mode_frequencies_hz: Annotated[list[Annotated[float, Field(ge=1, le=1e4)]], Field(max_length=100)] = []
+    wheel_mode_masses_kg: Annotated[list[Annotated[float, Field(ge=1, le=1e5)]], Field(max_length=100)] = []
+    wheel_mode_damping_ratios: Annotated[list[Annotated[float, Field(ge=0, le=1)]], Field(max_length=100)] = []
+
+    sections: ClassVar[tuple] = ("track",)
+    label: ClassVar[str] = "wheel on the discrete track"
+
+    @model_validator(mode="after")
+    def _modes(self):
+        modes = len(self.wheel_mode_frequencies_hz)
+        for name in ("wheel_mode_masses_kg", "wheel_mode_damping_ratios"):
+            if len(getattr(self, name)) != modes:
+                raise refuse(name, f"give one value per mode in wheel_mode_frequencies_hz ({modes}), "
+                                   f"not {len(getattr(self, name))}")
+        return self
+
+    def case(self, scenario):
+        """The :class:`~railwear.longterm.vehicle_track.VehicleCase` of ``[wheel]``, ``[contact]``,
+        this section and ``[track]``, its wear band from :func:`~railwear.scenario.build.band_width`."""
+        from railwear.longterm.vehicle_track import VehicleCase
+
+        w, c = scenario.wheel, scenario.contact
+        return VehicleCase(
+            name=scenario.name, diameter=2 * w.radius_m, static_load=w.static_load_kN * KN,
+            unsprung_mass=w.unsprung_mass_kg, wheel_inertia=self.wheel_inertia_kg_m2,
+            sprung_mass=self.sprung_mass_kg, primary_stiffness=self.primary_stiffness_MN_m * MN,
+            primary_damping=self.primary_damping_kN_s_m * KN, track=build.track(scenario),
+            traction_coefficient=c.traction_coefficient, band_width=build.band_width(scenario),
+            rail_head_radius=c.rail_head_radius_m, friction_coefficient=c.friction_coefficient,
+            youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson,
+            wheel_modes=tuple(zip(self.wheel_mode_frequencies_hz, self.wheel_mode_masses_kg,
+                                  self.wheel_mode_damping_ratios)))
+
+    def build(self, scenario, speed=None):
+        """The wheel on the time-domain track (a ring of ``track.ring_sleepers`` bays)."""
+        from railwear.longterm.vehicle_track_body import VehicleTrackBody, ring_for
+
+        service, case, t = build.service_speeds(scenario), self.case(scenario), scenario.track
+        if case.wheel_modes:
+            raise ScenarioError("body.wheel_mode_frequencies_hz: the time-domain vehicle-track body has no flexible "
+                                "wheelset modes; use the fourier or multiplier strategy")
+        return VehicleTrackBody(case.wheel(service.mean if speed is None else speed), build.wear_law(scenario),
+                                case.band_width, build.life_distance(scenario), service, **self.settings(),
+                                ring=ring_for(case.track, t.ring_sleepers, t.ring_max_frequency_hz))
+
+    def linear_model(self, scenario, speed):
+        """The wheel closed through the rail receptance, averaged over ``track.bay_positions``."""
+        from railwear.longterm.vehicle_track import VehicleTrackModel
+
+        case = self.case(scenario)
+        return VehicleTrackModel(case.wheel(speed), case.track, scenario.track.bay_positions,
+                                 case.wheel_modes), case.band_width
+
+    def growth_map(self, scenario, speeds, orders):
+        """The Fourier growth map with the rail receptance evaluated once per bay offset."""
+        return self.case(scenario).growth_map(speeds, orders, build.wear_law(scenario), scenario.track.bay_positions)
+
+
+@body_section
+class WheelsetSection(BodySection):
+    """``kind = "wheelset"``: long-term wear of the wheelset on real profiles, the worn lateral
+    profile over distance and the angular pattern at the end; it starts from the new profile.
+
+    The suspension is ``[wheelset]`` (mass, yaw inertia, stiffnesses; its conicity and half gauge
+    are not used: the contact table of the profiles gives the geometry), the speed
+    ``operation.speed_kmh`` (one), friction and elasticity ``[contact]``, the nominal rolling
+    radius ``wheel.radius_m``, the axle load twice ``wheel.static_load_kN``, the law ``[wear]``.
+    Frozen geometry (stepwise): ``samples`` random starts of ``seconds_per_sample_s`` each;
+    coupled (direct): the profile and the contact table updated every ``update_interval_s`` of
+    simulated time. ``wheel_profile``/``rail_profile`` a built-in name (S1002, UIC60) or a SIMPACK
+    profile file; ``shift_max_mm``/``shift_step_mm`` the table's lateral shifts;
+    ``lateral_min_mm``, ``lateral_max_mm``, ``lateral_cells`` and ``angle_cells`` the wear surface
+    on the wheel profile; ``transient_s`` run before wear is gathered; each run starts from rest at
+    a random lateral offset between ``offset_min_mm`` and ``offset_max_mm`` (random sign);
+    ``output_rate_Hz`` the output times of the dynamics per simulated second; ``contact_model``
+    the tables' contact: "hertz", "multi-hertz" or "semi-hertzian". Example::
+
+        [strategy]
+        kind = "stepwise"
+        step_limit_um = 1.0
+
+        [body]
+        kind = "wheelset"
+        samples = 2
+        wheel_profile = "S1002"
+        rail_profile = "UIC60"
+        seconds_per_sample_s = 1.0
+    """
+
+    kind: Literal["wheelset"] = "wheelset"
+    samples: Samples = 8
+    wheel_profile: PathText = "S1002"
+    rail_profile: PathText = "UIC60"
+    shift_max_mm: Annotated[float, Field(gt=0, le=50, allow_inf_nan=False)] = 10.0
+    shift_step_mm: Annotated[float, Field(gt=0, le=10, allow_inf_nan=False)] = 0.1
+    lateral_min_mm: Annotated[float, Field(ge=-200, le=200)] = -50.0  # a tread is ~140 mm wide
+    lateral_max_mm: Annotated[float, Field(ge=-200, le=200)] = 40.0
+    lateral_cells: Annotated[int, Field(ge=2, le=10000)] = 180
+    angle_cells: Annotated[int, Field(ge=4, le=100000)] = 64
+    transient_s: Annotated[float, Field(ge=0, le=3600)] = 3.0  # simulated seconds: an hour is plenty
+    offset_min_mm: Annotated[float, Field(ge=0, le=50)] = 1.0  # past the flange at ~10 mm
+    offset_max_mm: Annotated[float, Field(ge=0, le=50)] = 3.0
+    output_rate_Hz: Annotated[float, Field(ge=1, le=1e6)] = 2000.0
+    footprint: Literal["hertz", "uniform"] = "hertz"
+    contact_model: Literal["hertz", "multi-hertz", "semi-hertzian"] = "hertz"
+    seconds_per_sample_s: Annotated[float, Field(gt=0, le=3600)] = 2.0
+    update_interval_s: Annotated[float, Field(ge=1e-4, le=3600)] = 0.5
+
+    provides: ClassVar[frozenset] = frozenset({"rates", "segment"})
+    serves: ClassVar[dict] = {"samples": ("rates",)}
+    starts_new: ClassVar[bool] = True
+    saves_every_segment: ClassVar[bool] = True
+    label: ClassVar[str] = "wheelset on real profiles"
+
+    @model_validator(mode="after")
+    def _ranges(self):
+        if not self.lateral_min_mm < self.lateral_max_mm:
+            raise refuse("lateral_min_mm", f"lateral_min_mm must be below lateral_max_mm ({self.lateral_min_mm:g} mm "
+                                           f">= {self.lateral_max_mm:g} mm)")
+        if self.offset_min_mm > self.offset_max_mm:
+            raise refuse("offset_min_mm", f"must not exceed offset_max_mm ({self.offset_max_mm:g})")
+        if self.shift_step_mm > self.shift_max_mm:
+            raise refuse("shift_step_mm", f"must not exceed shift_max_mm ({self.shift_max_mm:g})")
+        return self
+
+    def profile(self, which):
+        """The wheel or rail profile (``which`` "wheel" or "rail")."""
+        from railwear.geometry import load_profile
+
+        name = getattr(self, f"{which}_profile")
+        try:
+            return load_profile(name)
+        except (OSError, ValueError, ScenarioError) as e:
+            message = str(e).splitlines()[0] if str(e) else type(e).__name__
+            raise ScenarioError(f"body.{which}_profile: cannot load {name!r}: built-in S1002 or UIC60, "
+                                f"or a SIMPACK profile file ({message})") from None
+
+    def problem(self, scenario):
+        """The :class:`~railwear.longterm.wheelset_wear.WheelsetWear` problem with the suspension
+        of ``[wheelset]`` at the one operation speed."""
+        from railwear.dynamics import TableWheelsetModel
+        from railwear.geometry import contact_table
+        from railwear.longterm.wheelset_wear import WheelsetWear
+
+        speed, c, w, ws = build.one_speed(scenario), scenario.contact, scenario.wheel, scenario.wheelset
+        n = max(int(round(self.shift_max_mm / self.shift_step_mm)), 1)
+        shifts = np.round(np.linspace(-self.shift_max_mm, self.shift_max_mm, 2 * n + 1) * MM, 12)
+        wheel, rail = self.profile("wheel"), self.profile("rail")
+        table = contact_table(wheel, rail, y=shifts, axle_load=2 * w.static_load_kN * KN, rolling_radius=w.radius_m,
+                              youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson,
+                              contact_model=self.contact_model)
+        model = TableWheelsetModel(speed=float(speed), mass=ws.mass_kg, yaw_inertia=ws.yaw_inertia_kg_m2,
+                                   lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=ws.yaw_stiffness_N_m_rad,
+                                   table=table, friction_coefficient=c.friction_coefficient)
+        edges = np.round(np.linspace(self.lateral_min_mm, self.lateral_max_mm, self.lateral_cells + 1) * MM, 12)
+        return WheelsetWear(model, wheel, rail, build.wear_law(scenario), build.life_distance(scenario),
+                            shifts=tuple(shifts), lateral_edges=tuple(edges), n_angle=self.angle_cells,
+                            transient=self.transient_s, offsets=(self.offset_min_mm * MM, self.offset_max_mm * MM),
+                            output_rate=self.output_rate_Hz, footprint=self.footprint,
+                            contact_model=self.contact_model)
+
+    def build(self, scenario, speed=None):
+        """The wheelset as a long-term body (``run(None, ...)`` starts from the new profile)."""
+        from railwear.longterm.wheelset_wear import Wheelset
+
+        if getattr(build.wear_law(scenario), "stateful", False):
+            raise ScenarioError(f"wear.law: {scenario.wear.law!r} carries a state per cell, which the wheelset "
+                                "body does not; use it with a body that rolls over its angle (disk_wheel)")
+        return Wheelset(self.problem(scenario), seconds=self.seconds_per_sample_s, samples=self.samples,
+                        update_seconds=self.update_interval_s)
