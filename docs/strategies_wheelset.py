@@ -170,7 +170,7 @@ def wheelset_section(quick: bool) -> str:
         f"fed lateral profile per step. Direct: one run from one such start, the wear coefficient "
         f"times A, profile and table updated every {UPDATE_SECONDS:g} s of simulated time. "
         f"Reference: {reference}. Everything is run on each contact model of the tables "
-        f"(`[wheelset_wear] contact_model`, `docs/contact.md`): **hertz** one rigid point per wheel "
+        f"(`[body] contact_model`, `docs/contact.md`): **hertz** one rigid point per wheel "
         f"carrying the load; **multi-hertz** and **semi-hertzian** every local minimum of the gap a "
         f"contact, the load shared, the dynamics evaluating each contact on its own (its creepages, "
         f"Kalker coefficients and saturation), and each contact worn at its own position under its own "

@@ -1,6 +1,7 @@
 """The long-term contract holds for code from outside: a fifth strategy in two files
 (example_frozen_strategy.py, example_frozen_section.py) run from a scenario on both bodies, and a
-new body in one file (example_ring_body.py) run by the stepwise and direct strategies."""
+new body in two files (example_ring_body.py, example_ring_section.py) run by the stepwise and
+direct strategies, from Python and from a scenario."""
 
 import importlib
 
@@ -13,7 +14,7 @@ from railwear.longterm.base import Strategy, check_result
 from railwear.longterm.direct import Direct
 from railwear.longterm.stepwise import Stepwise
 from railwear.scenario import build, load_scenario, parse_scenario, to_toml
-from railwear.scenario.schema import STRATEGY_SECTIONS
+from railwear.scenario.schema import BODY_SECTIONS, STRATEGY_SECTIONS
 
 
 @pytest.fixture(scope="module")
@@ -77,3 +78,49 @@ def test_a_new_body_is_worn_by_both_strategies_to_its_closed_form():
     assert np.max(np.abs(worn - exact * 0.5)) < 4 * float(step.u_standard_error[-1].max())
     np.testing.assert_allclose(step.removed_volume.values, step.law_volume.values, rtol=1e-12)
     assert int(step.dominant_order) == 6
+
+
+RING = """
+name = "ring"
+
+[strategy]
+kind = "direct"
+acceleration_factor = 1.0
+
+[body]
+kind = "ring"
+order = 5
+
+[solver]
+points = 64
+t_end = 0.5
+depth_limit_mm = 10.0
+
+[initial]
+kind = "round"
+"""
+
+
+@pytest.fixture(scope="module")
+def ring_kind():
+    section = importlib.import_module("example_ring_section")
+    yield section
+    BODY_SECTIONS.pop("ring")
+
+
+def test_a_new_body_runs_from_a_scenario_with_its_section(ring_kind):
+    """``[body] kind = "ring"``: the direct strategy wears the closed form to round-off, the
+    scenario round-trips, a field the ring has not is refused naming it, and a strategy that
+    needs what the ring does not give is refused naming ``body.kind``."""
+    sc = parse_scenario(RING)
+    assert parse_scenario(to_toml(sc)) == sc
+    ds = railwear.run(sc)
+    assert ds.attrs["body"] == "ring" and float(ds.stop_time) == 0.5
+    exact = ring_kind.Ring(order=5).rate(64)
+    np.testing.assert_allclose(-ds.u.values[-1], exact * 0.5, rtol=1e-12)
+    step = railwear.run(load_scenario(sc, ["strategy.kind=stepwise", "strategy.step_limit_um=20"]))
+    assert step.attrs["strategy"] == "stepwise" and int(step.dominant_order) == 5
+    with pytest.raises(ScenarioError, match="body.rail_mass_kg: does not apply to kind 'ring'"):
+        parse_scenario(RING.replace("order = 5", "order = 5\nrail_mass_kg = 1.0"))
+    with pytest.raises(ScenarioError, match="body.kind: the fourier strategy needs a linear model"):
+        load_scenario(sc, ["strategy.kind=fourier"])
