@@ -28,6 +28,7 @@ import hashlib
 import json
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -45,16 +46,22 @@ class Strategy(Registered, ABC):
 
     Rules for a new strategy:
 
-    1. ``run(u0, until, depth_limit, progress, checkpoint, resume)`` returns the result (the
+    1. Register a ``name`` (``class X(Strategy, name="x")``): the result's ``strategy``
+       attribute and the checkpoint's kind.
+    2. ``run(u0, until, depth_limit, progress, checkpoint, resume)`` returns the result (the
        contract in this module's docstring).
-    2. A stepped strategy defines ``advance(body, state, until)`` returning a
-       :class:`~railwear.longterm.driver.Step` and hands its loop to
-       :func:`~railwear.longterm.driver.drive`; it then also declares ``monte_carlo`` (``True``
-       when its steps carry standard errors) and ``attributes(state)`` (a dict for the result).
-       One without them is refused when its class is defined, naming the member.
+    3. A stepped strategy defines ``advance(body, state, until)`` returning a
+       :class:`~railwear.longterm.driver.Step` from the body's :class:`Rates` or
+       :class:`Segment`, and hands its loop to :func:`~railwear.longterm.driver.drive`.
+    4. It then also declares ``monte_carlo`` (``True`` when its steps carry standard errors)
+       and ``attributes(state)`` (a dict for the result). A stepped strategy without them is
+       refused when its class is defined, naming the member.
+    5. Its scenario section (:class:`~railwear.scenario.schema.StrategySection`) says what it
+       ``needs`` of a body; its builder is registered with ``build.builds("x")``.
     """
 
     registry: dict = {}
+    monte_carlo: bool
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -95,11 +102,53 @@ def bodies():
     return _imported(Body.registry, "railwear.longterm", BUILTIN_BODIES)
 
 
+class Rates(NamedTuple):
+    """Frozen-geometry wear of a body (:meth:`Body.rates`): ``rate`` per unit normed time in the
+    layout of an increment, ``error`` its Monte Carlo standard error on what the variance is kept
+    on, ``law_rate`` the wear law's volume (m³ per unit normed time), ``seen`` the body's record
+    of the runs."""
+
+    rate: Any
+    error: Any
+    law_rate: float
+    seen: Any = None
+
+
+class Segment(NamedTuple):
+    """One coupled segment of a body (:meth:`Body.segment`): the wear ``increment`` over ``dT``
+    (normed time), ``final`` when ``dT`` is exactly what remained, the law's volume (m³), the
+    body's record ``seen`` and the ``carry`` the next segment starts from."""
+
+    increment: Any
+    dT: float
+    final: bool
+    law_volume: float
+    seen: Any
+    carry: dict
+
+
 class Body(Registered, ABC):
     """What a stepped strategy wears; subclasses register with ``class X(Body, name="x")`` and
     the result's ``body`` attribute is that name. ``u`` is the body's wear variable (an array;
     for the disk wheel the radius deviation, m, for the wheelset the removed depth of both
-    wheels, m). Abstract members left out fail when the body is constructed, naming them."""
+    wheels, m). Abstract members left out fail when the body is constructed, naming them.
+
+    Rules for a new body:
+
+    1. Register a ``name``; set ``label`` (words for messages).
+    2. Say what wears: ``start``, ``removed``, ``removal``, ``apply``, ``error_shape`` (or
+       inherit :class:`RadiusBody` for a radius deviation over the angle).
+    3. Give frozen-geometry :class:`Rates` (for the stepwise strategy) and/or coupled
+       :class:`Segment` s after ``couple`` (for the direct one); a body without one of them
+       raises ``NotImplementedError`` there, and its scenario section leaves it out of
+       ``provides``.
+    4. ``record`` what an output keeps and build the ``result`` Dataset from the records
+       (the contract in this module's docstring; :func:`time_coordinates`, :func:`stop_time`
+       and :func:`railwear.longterm.spectra.describe` give its mandatory parts).
+    5. ``fingerprint_parts`` names everything that makes its problem, for checkpoints.
+    6. From a scenario: a ``[body]`` section registered with
+       :func:`railwear.scenario.schema.body_section` whose ``build(scenario, speed)`` returns it.
+    """
 
     registry: dict = {}
     label: str = ""
@@ -133,10 +182,7 @@ class Body(Registered, ABC):
 
     @abstractmethod
     def rates(self, u, rng, cost):
-        """Frozen-geometry wear: ``(rate, error, law_rate, seen)`` with ``rate`` per unit normed
-        time in the layout of an increment, ``error`` the Monte Carlo standard error of what the
-        variance is kept on, ``law_rate`` (m³ per unit normed time) the wear law's volume and
-        ``seen`` the body's record of the runs; the cost is added to ``cost``."""
+        """Frozen-geometry wear over ``u``, the :class:`Rates`; the cost is added to ``cost``."""
 
     def limited(self, rate, on="u"):
         """The part of ``rate`` whose largest magnitude the step limit bounds (``"u"`` or
@@ -149,8 +195,7 @@ class Body(Registered, ABC):
 
     @abstractmethod
     def segment(self, u, carry, acceleration, remaining, cost):
-        """One coupled segment: ``(increment, dT, final, law_volume, seen, carry)``; ``final``
-        when ``dT`` is exactly the ``remaining`` normed time."""
+        """One coupled :class:`Segment` from ``carry``, at most the ``remaining`` normed time."""
 
     @abstractmethod
     def record(self, u, seen, law_volume):

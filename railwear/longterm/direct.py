@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from railwear.errors import ScenarioError
-from railwear.longterm.base import Body, Strategy
+from railwear.longterm.base import Body, Segment, Strategy
 from railwear.longterm.driver import Step, drive
 
 
@@ -42,15 +42,16 @@ class Direct(Strategy, name="direct"):
     def run(self, u0=None, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
         """The result from ``u0`` until ``until`` or ``depth_limit`` (m); ``checkpoint`` is called
         at every output, ``resume`` continues from one to the same result bit for bit."""
-        return drive(self, self.body, u0, until, depth_limit, (self.acceleration,), self.seed, self.n_save,
-                     self.max_steps, "segments did not reach the end; raise the acceleration factor",
-                     progress, checkpoint, resume, coupled=self.acceleration)
+        return drive(self, self.body, u0, until, depth_limit, settings=(self.acceleration,), seed=self.seed,
+                     n_save=self.n_save, max_steps=self.max_steps,
+                     too_many="segments did not reach the end; raise the acceleration factor",
+                     progress=progress, checkpoint=checkpoint, resume=resume, coupled=self.acceleration)
 
     def advance(self, body, state, until):
         """One coupled segment of the body's dynamics and its wear."""
-        increment, dT, final, law, seen, state.carry = body.segment(state.u, state.carry, self.acceleration,
-                                                                    until - state.time, state.cost)
-        return Step(increment, dT, final, law, seen)
+        segment = Segment._make(body.segment(state.u, state.carry, self.acceleration, until - state.time, state.cost))
+        state.carry = segment.carry
+        return Step(segment.increment, segment.dT, segment.final, segment.law_volume, segment.seen)
 
     def attributes(self, state):
         return {"strategy_description": "direct coupled integration", "acceleration_factor": self.acceleration,

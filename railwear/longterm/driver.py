@@ -36,12 +36,16 @@ class Step:
     previous: tuple = ()
 
 
-def drive(strategy, body, u0, until, depth_limit, settings=(), seed=0, n_save=None, max_steps=100_000,
+def drive(strategy, body, u0, until, depth_limit, *, settings=(), seed=0, n_save=None, max_steps=100_000,
           too_many="steps did not reach the end", progress=None, checkpoint=None, resume=None, coupled=None):
     """Run ``strategy.advance`` on ``body`` from ``u0`` to normed time ``until`` or the removed
     ``depth_limit`` (m); saves after every step (``n_save`` None) or at ``n_save`` marks evenly
-    spaced in time and in depth. ``coupled`` the acceleration factor of a coupled run (its carry
-    is started once). Returns the body's result Dataset with the contract's attributes."""
+    spaced in time and in depth. ``settings``: the strategy's own values that identify its
+    problem (for checkpoints); ``seed`` the generator's; ``max_steps`` and ``too_many`` the bound
+    on the steps and what to say past it; ``progress(fraction)``, ``checkpoint(Checkpoint)`` the
+    observers and ``resume`` a :class:`~railwear.longterm.base.Checkpoint` to continue from;
+    ``coupled`` the acceleration factor of a coupled run (its carry is started once). Returns the
+    body's result Dataset with the contract's attributes."""
     started = _time.perf_counter()
     checked_run(until, depth_limit)
     u_start = body.start(u0)

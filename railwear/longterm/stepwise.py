@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from railwear.errors import ScenarioError
-from railwear.longterm.base import Body, Strategy
+from railwear.longterm.base import Body, Rates, Strategy
 from railwear.longterm.driver import Step, drive
 
 SCHEMES = ("euler", "adams-bashforth")
@@ -60,13 +60,13 @@ class Stepwise(Strategy, name="stepwise"):
     def run(self, u0=None, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
         """The result from ``u0`` until ``until`` or ``depth_limit`` (m); ``checkpoint`` is called
         after every step, ``resume`` continues from one to the same result bit for bit."""
-        return drive(self, self.body, u0, until, depth_limit, (self.step_limit, self.limit_on, self.scheme),
-                     self.seed, None, self.max_steps, "steps did not reach the end; raise step_limit",
-                     progress, checkpoint, resume)
+        return drive(self, self.body, u0, until, depth_limit, settings=(self.step_limit, self.limit_on, self.scheme),
+                     seed=self.seed, max_steps=self.max_steps, too_many="steps did not reach the end; raise step_limit",
+                     progress=progress, checkpoint=checkpoint, resume=resume)
 
     def advance(self, body, state, until):
         """One step: the rates over the frozen state, the step size, the scheme's weights."""
-        rate, error, law_rate, seen = body.rates(state.u, state.rng, state.cost)
+        rate, error, law_rate, seen = Rates._make(body.rates(state.u, state.rng, state.cost))
         top = np.max(np.abs(body.limited(rate, self.limit_on)))
         dT = self.step_limit / top if top > 0 else np.inf
         if state.time + dT >= until:
