@@ -142,10 +142,23 @@ def _limit(limit):
     return bands.iso3095_limit() if isinstance(limit, str) and limit.lower() == "iso3095" else limit
 
 
+def _band_levels(ds, d, k, diameter):
+    """The band levels of batch row ``d`` of ``ds`` at the start (``k`` 0) or the end (-1) on a
+    wheel of ``diameter`` (m): those the result stores (``band_level_initial``, ``band_level``)
+    where it stores them for this wheel, else from ``u``."""
+    from railwear.geometry import bands
+
+    if "band_level" in ds and "nominal_radius" in ds and 2 * float(ds.nominal_radius) == diameter:
+        name = "band_level_initial" if k == 0 else "band_level"
+        return bands.BandLevels.from_levels(d.band.values, d[name].values, np.pi * diameter)
+    return bands.band_levels(d.u.isel(time=k).values, diameter)
+
+
 def spectrum(ds, diameter=None, limit=None):
     """Amplitude per polygon order at the start (dashed) and the end (solid), with the wavelength
     ``π D / n`` on the top axis, over the one-third-octave band levels in wavelength (EN 15610,
-    dB re 1 µm; bands longer than a quarter of the circumference drawn open: not resolved).
+    dB re 1 µm, those the result stores; bands longer than a quarter of the circumference drawn
+    open: not resolved).
 
     ``diameter`` (m) defaults to the result's wheel; ``limit`` a ``bands.LimitSpectrum`` or
     ``"iso3095"`` (the rail roughness limit of ISO 3095) drawn over the bands. Amplitudes more
@@ -175,7 +188,7 @@ def spectrum(ds, diameter=None, limit=None):
             below = a < floor
             ax.plot(n[below], shown[below], ls="none", marker="o", ms=4, mfc="white", color=colour)
             if d_wheel is not None:
-                levels[(i, k)] = bands.band_levels(d.u.isel(time=k).values, d_wheel)
+                levels[(i, k)] = _band_levels(ds, d, k, d_wheel)
     ax.set_yscale("log")
     ax.set_ylim(floor / 1.6, peak * 2.5)
     ax.axhline(floor, color="0.6", lw=0.8, ls=":")
@@ -202,9 +215,10 @@ def spectrum(ds, diameter=None, limit=None):
             picks.append(t)
     wl_ax.set_xticks(picks, [f"{t:g}" for t in picks])
     wl_ax.set_xlabel(f"wavelength π D / n (m), wheel diameter D = {d_wheel:g} m ({origin})", fontsize="small")
-    # 40 dB under the largest band, never under 1 pm rms (-120 dB re 1 µm)
-    band_floor = max(max(float(np.max(lv.level)) for lv in levels.values()) - 20 * np.log10(SPECTRUM_RANGE),
-                     -120.0)
+    # 40 dB under the largest band, never under 1 pm rms (-120 dB re 1 µm); an empty band has no level
+    top_level = max((float(np.nanmax(lv.level)) for lv in levels.values() if np.any(np.isfinite(lv.level))),
+                    default=-np.inf)
+    band_floor = max(top_level - 20 * np.log10(SPECTRUM_RANGE), -120.0)
     for i, (label, _) in enumerate(rows):
         for k, style, marker, when in ((0, "--", ".", "start"), (-1, "-", "o", "end")):
             lv = levels[(i, k)]

@@ -7,6 +7,7 @@ import pytest
 
 from railwear import api, plots
 from railwear.geometry import bands
+from railwear.longterm.spectra import with_band_levels
 from railwear.scenario import load_scenario, parse_scenario, to_toml
 
 UM = 1e-6
@@ -138,7 +139,9 @@ def test_batch_rows(batch):
 
 
 def test_round_wheel_draws_without_error(result):
-    flat = result.assign(u=result.u * 0 - 1e-4)
+    # the result stores the band levels of its own u: a new u has its own (every band empty here)
+    flat = with_band_levels(result.assign(u=result.u * 0 - 1e-4), float(result.nominal_radius))
+    assert np.isnan(flat.band_level.values).all()
     fig = plots.spectrum(flat)
     _finite_axes(fig)
     drawn = np.concatenate([line.get_ydata() for line in fig.axes[0].get_lines() if len(line.get_ydata())])

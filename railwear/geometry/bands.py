@@ -121,6 +121,21 @@ class BandLevels:
     resolved: np.ndarray
     circumference: float
 
+    @classmethod
+    def from_levels(cls, index, level, circumference):
+        """The levels ``level`` (dB re 1 µm, NaN or ``-inf`` for an empty band; last axis over the
+        consecutive bands ``index``) of a record of length ``circumference`` (m), as stored in a
+        result: the mean squares ``(1 µm)² 10^(L/10)`` (0 for an empty band) and the rest from the
+        band numbers."""
+        index = np.asarray(index, int)
+        level = np.asarray(level, float)
+        lower, upper = band_edges(index)
+        with np.errstate(invalid="ignore"):
+            mean_square = np.where(np.isfinite(level), ROUGHNESS_REFERENCE**2 * 10.0 ** (level / 10.0), 0.0)
+        exact = exact_wavelength(index)
+        return cls(index, nominal_wavelength(index), exact, lower, upper, mean_square, level,
+                   exact <= RESOLVED_FRACTION * circumference, float(circumference))
+
     def to_dataset(self):
         """The levels as an ``xarray.Dataset`` over ``wavelength`` (CF units)."""
         import xarray as xr

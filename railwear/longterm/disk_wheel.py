@@ -354,7 +354,7 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
                                         {"units": "m", "long_name": "Monte Carlo standard error of u"})
         coords = time_coordinates(times, self.life_distance, self.service.mean)
         coords["angle"] = ("angle", 2 * np.pi * np.arange(n) / n, {"units": "rad", "long_name": "angle round the wheel"})
-        return describe(xr.Dataset(data, coords=coords, attrs=attrs))
+        return describe(xr.Dataset(data, coords=coords, attrs=attrs), self.model.radius)
 
     def fingerprint_parts(self):
         return (repr(self.law), self.band_width, self.life_distance, self.service, self.revolutions,

@@ -94,7 +94,8 @@ class Fourier:
 
     ``transfer(ω)``: driver per metre of filtered radius deviation at ``ω`` (rad/s), complex;
     ``steady_driver`` the driver of the round wheel; ``depth_per_driver`` ``c`` (m/s per unit of
-    driver); ``wheel_speed`` Ω (rad/s); ``half_angle`` δ (rad); ``speed`` v (m/s) for distances.
+    driver); ``wheel_speed`` Ω (rad/s); ``half_angle`` δ (rad); ``speed`` v (m/s) for distances;
+    ``radius`` R0 (m) of the wheel, for wavelengths (``None``: unknown).
     """
 
     transfer: Callable
@@ -103,6 +104,7 @@ class Fourier:
     wheel_speed: float
     half_angle: float
     speed: float
+    radius: float | None = None
 
     def __post_init__(self):
         for name in ("depth_per_driver", "wheel_speed", "speed"):
@@ -254,7 +256,7 @@ class Fourier:
         else:
             raise ScenarioError(f"driver must be 'law' or 'normal_force', not {driver!r}")
         return cls(transfer, steady, depth_per_driver, omega, model.patch_half_length / model.radius,
-                   model.speed)
+                   model.speed, model.radius)
 
 
 @dataclass(frozen=True)
@@ -295,7 +297,7 @@ class FourierStrategy(Strategy, name="fourier"):
                         strategy_description=ds.attrs["strategy"])
         if progress is not None:
             progress(1.0)
-        return describe(ds.drop_vars("order"))
+        return describe(ds.drop_vars("order"), self.fourier.radius)
 
 
 def stability_map(make_model, speeds, orders, law, band_width, driver="law"):

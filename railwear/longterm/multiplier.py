@@ -207,7 +207,8 @@ class Multiplier(Strategy, name="multiplier"):
         ds = solve_multiplier(u0, until, rate, g, self.fourier.speed, self.epsilon, self.nu, local_input=a,
                               local_output=b, depth_limit=depth_limit, peak_to_peak_limit=limit, progress=progress,
                               checkpoint=save, resume=resume, **self.options)
-        ds = finish(ds, self.name, self.life_distance, "multiplier law: Fourier rates plus the local nonlinearity")
+        ds = finish(ds, self.name, self.life_distance, "multiplier law: Fourier rates plus the local nonlinearity",
+                    self.fourier.radius)
         if limit is not None:
             ds["peak_to_peak_limit"] = ((), limit, {"units": "m", "long_name": "out-of-roundness limit, peak to peak"})
         ds.attrs["body"] = self.body

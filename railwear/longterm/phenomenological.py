@@ -15,7 +15,8 @@ from railwear.units import KM
 class Phenomenological(Strategy, name="phenomenological"):
     """Evolve a wheel's radius deviation under a wear-rate form ``h`` at one or more speeds (m/s),
     with the odd terms ``drift u_x + dispersion u_xxx`` (rad and rad³ per unit normed time; one
-    value or one per speed); ``life_distance`` (m) is one unit of normed time."""
+    value or one per speed); ``life_distance`` (m) is one unit of normed time; ``radius`` (m) the
+    wheel's nominal radius, for the band levels in wavelength (``None``: none)."""
 
     h: object
     speed: float | np.ndarray
@@ -25,6 +26,7 @@ class Phenomenological(Strategy, name="phenomenological"):
     dispersion: float | np.ndarray = 0.0
     options: dict = field(default_factory=dict)
     life_distance: float = 5e7
+    radius: float | None = None
 
     def run(self, u0, until=1.0, depth_limit=None, progress=None, checkpoint=None, resume=None):
         """Solve to normed time ``until`` or removed depth ``depth_limit`` (m); add the wheel's spectrum.
@@ -36,7 +38,7 @@ class Phenomenological(Strategy, name="phenomenological"):
         ds = solve_evolution(u0, until, as_wear_rate(self.h), self.speed, self.epsilon, self.nu,
                              depth_limit=depth_limit, progress=progress, checkpoint=save,
                              resume=resume, drift=self.drift, dispersion=self.dispersion, **self.options)
-        return finish(ds, self.name, self.life_distance, "phenomenological evolution equation")
+        return finish(ds, self.name, self.life_distance, "phenomenological evolution equation", self.radius)
 
 
 def solver_checkpoints(name, checkpoint, resume):
@@ -51,13 +53,14 @@ def solver_checkpoints(name, checkpoint, resume):
     return save, resume
 
 
-def finish(ds, name, life_distance, description):
+def finish(ds, name, life_distance, description, radius=None):
     """A solved evolution equation as a strategy's result: the cost in ETDRK4 steps, the distance
-    (km at ``life_distance`` m per unit normed time), the contract's attributes and the spectra."""
+    (km at ``life_distance`` m per unit normed time), the contract's attributes and the spectra
+    (with the wheel's ``radius`` in m, the band levels in wavelength)."""
     steps = np.round(np.asarray(ds.stop_time) / np.asarray(ds.time_step))
     ds["cost_time_steps"] = (ds.stop_time.dims, steps,
                              {"units": "1", "long_name": "ETDRK4 steps at the final step size"})
     ds = ds.assign_coords(distance=("time", ds.time.values * life_distance / KM,
                                     {"units": "km", "long_name": "distance run"}))
     ds.attrs.update(strategy=name, body="disk_wheel", scenario_hash="", strategy_description=description)
-    return describe(ds)
+    return describe(ds, radius)

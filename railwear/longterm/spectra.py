@@ -4,7 +4,7 @@ import numpy as np
 import xarray as xr
 
 from railwear.errors import ModelRangeError
-from railwear.geometry import roundness
+from railwear.geometry import bands, roundness
 
 ROUND_OFF = 1e4 * np.finfo(float).eps  # of the largest |u|: a mean below -this is a gain, not round-off
 UNDEFINED = "undefined_because"  # attribute of a statistic: why its masked (NaN) entries have no value
@@ -14,6 +14,7 @@ ALTERNATING = "order N/2 alternates from point to point round the wheel and is n
 NO_AMPLITUDE = "the amplitude of the order is zero at a saved time: no out-of-round in it to grow"
 NO_LEVEL = "the amplitude of the order is zero at the end: its level would be -inf dB"
 ROUND = "no out-of-round left: the wheel is round at a saved time"
+NO_BAND_LEVEL = "no line of the wheel's spectrum in the band has any amplitude: its level would be -inf dB"
 
 
 def masked(values, causes):
@@ -65,10 +66,41 @@ def check_no_gain(u, mean_removed):
         last_good=u.isel(time=last).values, last_time=float(u.time.values[last]))
 
 
-def describe(ds: xr.Dataset):
+def with_band_levels(ds: xr.Dataset, radius):
+    """``ds`` with the one-third-octave band levels in wavelength (EN 15610, :mod:`railwear.geometry.bands`)
+    of ``u`` at the start and the end on a wheel of nominal ``radius`` (m), as the spectrum figure
+    draws them: ``band_level_initial`` and ``band_level`` (dB re 1 µm rms, ``L = 10 lg(r_rms² /
+    (1 µm)²)`` per band, over the batch and ``wavelength``), the coordinate ``wavelength`` (m, the
+    nominal band centre, longest first as the bands fall in wavenumber), ``band`` (``k``: centre
+    wavenumber ``10^(k/10)`` per m) and ``band_resolved`` (centre at most a quarter of the
+    circumference ``L = 2π R0``, EN 15610 7.5), and ``nominal_radius``. A band with no amplitude in
+    it is NaN, its :data:`UNDEFINED` attribute saying why. The bands are every band a line of ``u``
+    reaches, so the band mean squares add up to the variance of ``u``."""
+    batch = [d for d in ds.u.dims if d not in ("time", "angle")]
+    diameter = 2.0 * float(radius)
+    start, end = (bands.band_levels(ds.u.isel(time=k).transpose(*batch, "angle").values, diameter) for k in (0, -1))
+    dims = tuple(batch) + ("wavelength",)
+    centre = {"units": "m", "long_name": "one-third-octave band centre wavelength, nominal (EN 15610)"}
+    number = {"units": "1", "long_name": "band number k: centre wavenumber 10^(k/10) per m"}
+    resolved = {"long_name": "band centre at most a quarter of the circumference: resolved by one revolution "
+                             "(EN 15610 7.5)"}
+    ds = ds.assign_coords(wavelength=("wavelength", end.wavelength, centre), band=("wavelength", end.index, number),
+                          band_resolved=("wavelength", end.resolved, resolved))
+    for name, levels, when in (("band_level_initial", start, "start"), ("band_level", end, "end")):
+        level, undefined = masked(levels.level, [(NO_BAND_LEVEL, True)])
+        ds[name] = (dims, level, {"units": "dB", "long_name": f"one-third-octave band level of u at the {when}, "
+                                                               "re 1 um rms (EN 15610)", **undefined})
+    if "nominal_radius" not in ds:
+        ds["nominal_radius"] = ((), float(radius), {"units": "m", "long_name": "nominal rolling radius"})
+    return ds
+
+
+def describe(ds: xr.Dataset, radius=None):
     """Add removed depth over time, the initial and final polygon spectra and the fitted growth
-    to a solution. A statistic without a value somewhere (a rate of an order that is absent, the
-    level of a zero amplitude) is NaN there, and its :data:`UNDEFINED` attribute says why."""
+    to a solution, and with the wheel's nominal ``radius`` (m; or the solution's
+    ``nominal_radius``) the band levels in wavelength (:func:`with_band_levels`). A statistic
+    without a value somewhere (a rate of an order that is absent, the level of a zero amplitude)
+    is NaN there, and its :data:`UNDEFINED` attribute says why."""
     u = ds.u
     batch = [d for d in u.dims if d not in ("time", "angle")]
     u0, u_end = u.isel(time=0), u.isel(time=-1)
@@ -145,4 +177,6 @@ def describe(ds: xr.Dataset):
     ds["regime"] = (tuple(batch), regimes.astype(str),
                     {"long_name": "wear regime (stable, smoothing, onset, polygonalising)",
                      "rule": roundness.REGIME_RULE})
-    return ds
+    if radius is None and "nominal_radius" in ds:
+        radius = float(ds.nominal_radius)
+    return ds if radius is None else with_band_levels(ds, radius)
