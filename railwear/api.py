@@ -77,10 +77,6 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
         "life_distance_km": scenario.operation.life_distance_km,
     })
     ds["nominal_radius"] = ((), scenario.wheel.radius_m, {"units": "m", "long_name": "nominal rolling radius"})
-    if "order" in ds.dims and "band_level" not in ds:  # a strategy that was not given the wheel's radius
-        from railwear.longterm.spectra import with_band_levels
-
-        ds = with_band_levels(ds, scenario.wheel.radius_m)
     return check_result(speed_coordinates(ds))
 
 

@@ -37,6 +37,15 @@ from railwear.registry import Registered
 from railwear.units import KM
 
 MANDATORY = ("u", "removed_depth", "stop_time")
+COSTS = {  # the cost counters of every strategy and body, one vocabulary: name -> (units, long name)
+    "revolutions": ("1", "wheel revolutions simulated"),
+    "rhs_evaluations": ("1", "right-hand sides of the dynamics evaluated"),
+    "seconds": ("s", "seconds of dynamics simulated"),
+    "tables": ("1", "contact tables computed"),
+    "draws": ("1", "Monte Carlo draws"),
+    "transfer_evaluations": ("1", "orders of the transfer function evaluated"),
+    "time_steps": ("1", "ETDRK4 steps at the final step size"),
+}
 COORDINATES = ("time", "distance", "speed")
 ATTRIBUTES = ("strategy", "body", "scenario_hash")
 
@@ -178,7 +187,7 @@ class Body(Registered, ABC):
 
     @abstractmethod
     def new_cost(self):
-        """The cost counters of a new run (a dict of zeros)."""
+        """The cost counters of a new run (a dict of zeros, named from :data:`COSTS`)."""
 
     @abstractmethod
     def rates(self, u, rng, cost):
@@ -205,7 +214,10 @@ class Body(Registered, ABC):
     @abstractmethod
     def result(self, records, times, cost, error, attrs):
         """The result Dataset from the saved ``records`` (dict of lists), normed ``times``, the
-        ``cost`` dict and the saved standard errors (``None`` without Monte Carlo)."""
+        ``cost`` dict and the saved standard errors (``None`` without Monte Carlo): ``u`` over
+        ``time`` and ``angle`` with the coordinates (:func:`time_coordinates`) and the body's own
+        variables; the driver adds ``removed_depth`` (from :meth:`removed`), ``stop_time`` and
+        the ``cost_*``."""
 
     @abstractmethod
     def fingerprint_parts(self):
@@ -251,7 +263,7 @@ class WearState:
     rng: np.random.Generator = field(repr=False, default=None)
 
 
-CHECKPOINT_VERSION = 2
+CHECKPOINT_VERSION = 3  # 3: the driver saves the removed depth; the cost counters of COSTS
 
 
 @dataclass(frozen=True)
@@ -443,6 +455,15 @@ def time_coordinates(times, life_distance, speed):
     return {"time": ("time", times, {"units": "1", "long_name": "normed life time"}),
             "distance": ("time", times * life_distance / KM, {"units": "km", "long_name": "distance run"}),
             "speed": ((), float(speed), {"units": "m s-1", "long_name": "vehicle speed (mean of the service)"})}
+
+
+def cost_variables(cost):
+    """The ``cost_*`` variables of a ``cost`` dict, each named, in units, from :data:`COSTS`; an
+    unknown counter is refused naming it."""
+    unknown = sorted(set(cost) - set(COSTS))
+    if unknown:
+        raise ValueError(f"cost counter {unknown[0]!r} is not in longterm.base.COSTS ({', '.join(COSTS)}); add it there")
+    return {f"cost_{k}": ((), v, {"units": COSTS[k][0], "long_name": COSTS[k][1]}) for k, v in cost.items()}
 
 
 def stop_time(times):

@@ -34,7 +34,7 @@ import numpy as np
 from railwear.dynamics import kernels
 from railwear.dynamics.integration import Integrator
 from railwear.errors import ScenarioError
-from railwear.longterm.base import RadiusBody, stop_time, time_coordinates
+from railwear.longterm.base import RadiusBody, time_coordinates
 from railwear.longterm.spectra import describe
 from railwear.wear import ContactSample, WearLaw
 
@@ -342,13 +342,9 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
         n = saved.shape[1]
         removed = (saved[0] - saved).sum(1) * self.cell_volume(n)
         data = {"u": (("time", "angle"), saved, {"units": "m", "long_name": "radius deviation from the nominal radius"}),
-                "stop_time": stop_time(times),
                 "removed_volume": ("time", removed, {"units": "m3", "long_name": "volume removed from the tread"}),
                 "law_volume": ("time", np.asarray(records["law_volume"], float),
-                               {"units": "m3", "long_name": "volume of the wear law"}),
-                "cost_revolutions": ((), cost["revolutions"], {"units": "1", "long_name": "wheel revolutions simulated"}),
-                "cost_rhs_evaluations": ((), cost["rhs_evaluations"],
-                                         {"units": "1", "long_name": "right-hand sides of the dynamics evaluated"})}
+                               {"units": "m3", "long_name": "volume of the wear law"})}
         if error is not None:
             data["u_standard_error"] = (("time", "angle"), np.asarray(error),
                                         {"units": "m", "long_name": "Monte Carlo standard error of u"})

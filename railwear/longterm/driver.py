@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from railwear.errors import ScenarioError
-from railwear.longterm.base import (Checkpoint, WearState, checked_run, fingerprint, fraction_done, plain_value,
-                                    rng_from_text, rng_state_text, stop_fraction)
+from railwear.longterm.base import (Checkpoint, WearState, checked_run, cost_variables, fingerprint, fraction_done,
+                                    plain_value, rng_from_text, rng_state_text, stop_fraction, stop_time)
 
 LIMIT_SLACK = 1 - 1e-12  # the depth counts as reached within round-off
 
@@ -55,6 +55,7 @@ def drive(strategy, body, u0, until, depth_limit, *, settings=(), seed=0, n_save
     depth_marks = None if n_save is None or depth_limit is None else np.linspace(0.0, depth_limit, n_save)
     if resume is None:
         state = _start(body, u_start, seed, coupled)
+        cost_variables(state.cost)  # an unknown counter fails before the run, not after it
     else:
         state = _restore(body, resume, strategy.name, key, u_start)
 
@@ -86,7 +87,7 @@ def drive(strategy, body, u0, until, depth_limit, *, settings=(), seed=0, n_save
             due = due or np.max(body.removed(state.u, u_start)) >= depth_marks[min(state.mark, n_save - 1)]
         if not (due or done):
             continue
-        _save(body, state, step.seen)
+        _save(body, state, step.seen, u_start)
         if n_save is not None:
             removed = np.max(body.removed(state.u, u_start))
             while state.mark < n_save and (state.time >= time_marks[state.mark] or (
@@ -99,8 +100,13 @@ def drive(strategy, body, u0, until, depth_limit, *, settings=(), seed=0, n_save
     saved = state.saved
     errors = saved.pop("_error")
     times = saved.pop("_time")
+    removed = np.array(saved.pop("_removed"), float)
     errors = errors if strategy.monte_carlo else None
     ds = body.result(saved, times, state.cost, errors, strategy.attributes(state))
+    ds["removed_depth"] = ("time", removed, {"units": "m", "long_name": "largest depth lost since the start "
+                                                                   "(most worn spot)"})
+    ds["stop_time"] = stop_time(times)
+    ds = ds.assign(cost_variables(state.cost))
     ds.attrs.update(strategy=strategy.name, body=body.name, scenario_hash=ds.attrs.get("scenario_hash", ""),
                     wall_seconds=_time.perf_counter() - started)
     return ds
@@ -112,16 +118,17 @@ def _start(body, u_start, seed, coupled):
     body.update(u_start, cost)
     state = WearState(0.0, 0, u_start.copy(), np.zeros(0), 0.0, (), {}, 1, cost, {}, rng)
     state.variance = np.zeros(body.error_shape(u_start))
-    _save(body, state, None)
+    _save(body, state, None, u_start)
     if coupled is not None:
         state.carry = body.couple(state.u, rng, coupled, cost)
     return state
 
 
-def _save(body, state, seen):
+def _save(body, state, seen, u_start):
     record = body.record(state.u, seen, state.law_volume)
     record["_time"] = state.time
     record["_error"] = np.sqrt(state.variance)
+    record["_removed"] = max(float(np.max(body.removed(state.u, u_start))), 0.0)  # round-off below the start: 0
     for k, v in record.items():
         state.saved.setdefault(k, []).append(v)
 

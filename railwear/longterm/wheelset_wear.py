@@ -63,7 +63,7 @@ from railwear.errors import ScenarioError
 from railwear.geometry import contact_table, worn_profile
 from railwear.geometry.contact_models import CONTACT_MODELS
 from railwear.geometry.wear_surface import WearSurface, deposit_rectangles, ellipse_footprint
-from railwear.longterm.base import Body, stop_time, time_coordinates
+from railwear.longterm.base import Body, time_coordinates
 from railwear.wear import ContactSample, WearLaw
 
 WHEELS = ("left", "right")
@@ -272,7 +272,7 @@ class WheelsetWear:
                                                     "yaw_rate")])
         if cost is not None:
             cost["seconds"] += seconds
-            cost["rhs"] += ds.attrs["rhs_evaluations"]
+            cost["rhs_evaluations"] += ds.attrs["rhs_evaluations"]
         return ds, end
 
     @property
@@ -468,7 +468,7 @@ class Wheelset(Body, name="wheelset"):
         seen, and the cost (added to ``cost`` when given)."""
         p = self.problem
         rates, law, seen = [], [], (np.inf, -np.inf, 0.0)
-        cost = {"seconds": 0.0, "rhs": 0} if cost is None else cost
+        cost = {"seconds": 0.0, "rhs_evaluations": 0} if cost is None else cost
         for _ in range(self.samples):
             offset, phase = p.start(rng)
             ds, _ = p.run(table, self.seconds, state=p.settle(table, offset, cost), offset=offset, cost=cost)
@@ -519,7 +519,7 @@ class Wheelset(Body, name="wheelset"):
         return (2, u.shape[2])
 
     def new_cost(self):
-        return {"seconds": 0.0, "rhs": 0, "tables": 0}
+        return {"seconds": 0.0, "rhs_evaluations": 0, "tables": 0}
 
     def rates(self, u, rng, cost):
         rates, laws, seen, _ = self.statistics(self.table, rng, cost)
@@ -556,7 +556,6 @@ class Wheelset(Body, name="wheelset"):
 
         p = self.problem
         depth = np.array(records["depth"])
-        fed = depth.mean(1)
         per_time = {
             "worn_depth": (("wheel", "lateral"), depth, "m", "depth removed, mean round the wheel"),
             "removed_volume": ((), records["volume"], "m3", "volume removed from both wheels"),
@@ -573,14 +572,8 @@ class Wheelset(Body, name="wheelset"):
         data.update({
             "u": (("time", "wheel", "angle", "lateral"), np.array(records["u"]),
                   {"units": "m", "long_name": "radius deviation (minus the depth removed)"}),
-            "removed_depth": ("time", (fed - fed[0]).max(1),
-                              {"units": "m", "long_name": "largest depth lost by the fed profile since the start"}),
             "surface_depth": (("wheel", "angle", "lateral"), -np.array(records["u"][-1]),
                               {"units": "m", "long_name": "depth removed at the end over angle and lateral position"}),
-            "stop_time": stop_time(times),
-            "cost_seconds": ((), float(cost["seconds"]), {"units": "s", "long_name": "seconds of dynamics simulated"}),
-            "cost_rhs_evaluations": ((), int(cost["rhs"]), {"units": "1", "long_name": "right-hand sides evaluated"}),
-            "cost_tables": ((), int(cost["tables"]), {"units": "1", "long_name": "contact tables computed"}),
         })
         if error is not None:
             data["worn_depth_final_standard_error"] = (

@@ -118,7 +118,7 @@ def phenomenological(scenario: Scenario):
     return Phenomenological(wear_rate(scenario), np.asarray(scenario.operation.speeds, float), solver.epsilon,
                             solver.nu, *odd_terms(scenario),
                             options={"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt},
-                            life_distance=life_distance(scenario))
+                            life_distance=life_distance(scenario), radius=scenario.wheel.radius_m)
 
 
 def track(scenario: Scenario):

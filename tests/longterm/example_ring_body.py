@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from railwear.longterm.base import RadiusBody, stop_time, time_coordinates
+from railwear.longterm.base import RadiusBody, time_coordinates
 from railwear.longterm.spectra import describe
 
 
@@ -52,10 +52,8 @@ class Ring(RadiusBody, name="ring"):
         u = np.asarray(records["u"])
         n = u.shape[1]
         data = {"u": (("time", "angle"), u, {"units": "m", "long_name": "radius deviation"}),
-                "stop_time": stop_time(times),
                 "removed_volume": ("time", (u[0] - u).sum(1) * self.cell_volume, {"units": "m3"}),
-                "law_volume": ("time", np.asarray(records["law_volume"]), {"units": "m3"}),
-                "cost_draws": ((), cost["draws"], {"units": "1", "long_name": "Monte Carlo draws"})}
+                "law_volume": ("time", np.asarray(records["law_volume"]), {"units": "m3"})}
         if error is not None:
             data["u_standard_error"] = (("time", "angle"), np.asarray(error), {"units": "m"})
         coords = time_coordinates(times, 1e6, 30.0)
