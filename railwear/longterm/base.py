@@ -151,9 +151,11 @@ class Body(Registered, ABC):
        :class:`Segment` s after ``couple`` (for the direct one); a body without one of them
        raises ``NotImplementedError`` there, and its scenario section leaves it out of
        ``provides``.
-    4. ``record`` what an output keeps and build the ``result`` Dataset from the records
-       (the contract in this module's docstring; :func:`time_coordinates`, :func:`stop_time`
-       and :func:`railwear.longterm.spectra.describe` give its mandatory parts).
+    4. ``record`` what an output keeps and build the ``result`` Dataset from the records: ``u``
+       over ``time`` and ``angle`` with :func:`time_coordinates` and the body's own variables
+       (:func:`railwear.longterm.spectra.describe` adds the spectra of a radius); the driver adds
+       ``removed_depth`` (from ``removed``), ``stop_time`` and the ``cost_*`` of the counters,
+       named from :data:`COSTS`.
     5. ``fingerprint_parts`` names everything that makes its problem, for checkpoints.
     6. From a scenario: a ``[body]`` section registered with
        :func:`railwear.scenario.schema.body_section` whose ``build(scenario, speed)`` returns it.
