@@ -2,6 +2,9 @@
 
 - ``rail("60E1")``, ``rail("54E1")``: standard sections (EN 13674-1, shipped data), any field
   overridable; ``Rail``, ``Support``, ``Track`` frozen, validated dataclasses;
+- ``support_set("zhai-2004")``: published supports with their sources (shipped data): the
+  two-layer ballasted support (ballast mass on a subgrade) and slab tracks; ``support_of(base, ...)``
+  builds a ``Support`` from a base's values (``base_fields``);
 - ``receptance(track, frequency_hz, position, response=None)``: the exact point or transfer
   receptance of the infinite track [m/N] (continuous: eigen-waves; discrete: Floquet waves);
 - ``finite_track_receptance``: the same on a finite track of exact spans (a cross-check, and the
@@ -13,21 +16,29 @@
 
 from railwear import _numba_cache  # noqa: F401  (first: numba caches keyed on the sources)
 
-from railwear.track.model import BEAMS, Rail, Support, Track, rail, rail_names
+from railwear.track.model import (BASES, BEAMS, Rail, Support, SupportSet, Track, base_fields, default_support_set,
+                                  rail, rail_names, support_of, support_set, support_set_names)
 from railwear.track.finite import finite_track_receptance
 from railwear.track.modal import ModalTrack, MovingLoadResult
 from railwear.track.receptance import load_offset, receptance
 
 __all__ = [
+    "BASES",
     "BEAMS",
     "ModalTrack",
     "MovingLoadResult",
     "Rail",
     "Support",
+    "SupportSet",
     "Track",
+    "base_fields",
+    "default_support_set",
     "finite_track_receptance",
     "load_offset",
     "rail",
     "rail_names",
     "receptance",
+    "support_of",
+    "support_set",
+    "support_set_names",
 ]

@@ -66,10 +66,19 @@ def rail_modes(track, step, max_frequency_hz, half_length):
     return np.array(beta), np.array(omega2), np.array(mass)
 
 
+def _one_mass_per_seat(support):
+    """Refuse a support the time-domain track does not model: a ballast mass on a subgrade."""
+    if not support.rigid_ground:
+        raise ScenarioError("subgrade_stiffness: the time-domain track has one mass per rail seat, on the ballast "
+                            "spring; a ballast mass on a subgrade has its receptance only (railwear.track.receptance, "
+                            "the Fourier technique)")
+
+
 def viscous_support(support, reference_frequency_hz):
     """``(k_p, c_p, k_b, c_b, M_s, rigid)`` of ``support``, loss factors made viscous,
     ``c = c_v + η k / ω_ref``, at ``reference_frequency_hz``."""
     s, w_ref = support, 2 * math.pi * reference_frequency_hz
+    _one_mass_per_seat(s)
     cp = s.pad_damping + s.pad_loss_factor * s.pad_stiffness / w_ref
     if s.rigid_base:
         return s.pad_stiffness, cp, 0.0, 0.0, 1.0, True
@@ -191,6 +200,7 @@ class ModalTrack(_ModalStates):
     def __post_init__(self):
         if not self.track.discrete:
             raise ScenarioError("sleeper_spacing: the modal track needs discrete supports")
+        _one_mass_per_seat(self.track.support)
         if int(self.n_sleepers) != self.n_sleepers or self.n_sleepers < 3:
             raise ScenarioError(f"n_sleepers: must be an integer >= 3, got {self.n_sleepers!r}")
         for name in ("max_frequency_hz", "reference_frequency_hz"):

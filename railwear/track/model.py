@@ -15,7 +15,8 @@ import numpy as np
 
 from railwear.errors import ScenarioError
 
-__all__ = ["BEAMS", "Rail", "Support", "Track", "rail", "rail_names"]
+__all__ = ["BASES", "BEAMS", "Rail", "Support", "SupportSet", "Track", "base_fields", "default_support_set", "rail",
+           "rail_names", "support_of", "support_set", "support_set_names"]
 
 BEAMS = ("euler", "timoshenko")
 
@@ -104,13 +105,26 @@ def rail(name: str = "60E1", **overrides) -> Rail:
 
 @dataclass(frozen=True)
 class Support:
-    """Rail support: a pad, optionally on a sleeper mass on ballast (the two-layer support).
+    """Rail support per rail seat: a chain of springs and masses from the rail down to rigid ground.
 
-    Per rail seat for a discrete track [N/m, N s/m, kg], per metre for a continuous one
+    ``pad`` (the rail pad, or a slab track's fastener) carries the rail on the ``sleeper_mass``
+    (half a sleeper, or a slab's share per rail seat); the ``ballast`` spring (or a slab's CA-mortar
+    layer) carries the sleeper on the ``ballast_mass``, which sits on the ``subgrade`` spring:
+
+        rail -- pad -- M_s -- ballast -- M_b -- subgrade -- ground
+
+    ``ballast_stiffness = inf`` (the default) puts the pad on a rigid base; ``subgrade_stiffness =
+    inf`` (the default) the ballast on rigid ground, where a ballast mass cannot move (so it must
+    then be 0). Per rail seat for a discrete track [N/m, N s/m, kg], per metre for a continuous one
     [N/m², N s/m², kg/m]. Each spring has a viscous coefficient and a loss factor, used together:
-    ``k* = k (1 + iη) + iωc``. ``ballast_stiffness = inf`` (the default) puts the pad on a rigid
-    base (the sleeper mass then does not move). Dynamic stiffness of the support (Knothe & Grassie
-    1993): ``k_s = k_p* (k_b* - M_s ω²) / (k_p* + k_b* - M_s ω²)``.
+    ``k* = k (1 + iη) + iωc``. Dynamic stiffness of the support seen by the rail, from the bottom up
+    (a spring in series with what lies below it, a mass beside it):
+
+        k_g = k_f* - M_b ω²,   k_b' = k_b* k_g / (k_b* + k_g)   (k_b' = k_b* on rigid ground)
+        k_s = k_p* (k_b' - M_s ω²) / (k_p* + k_b' - M_s ω²)
+
+    (Knothe & Grassie 1993 for the pad, sleeper and ballast; the ballast mass on a subgrade as in
+    Zhai, Wang & Lin, JSV 270 (2004) 673.) Published sets: :func:`support_set`.
     """
 
     pad_stiffness: float
@@ -120,16 +134,34 @@ class Support:
     ballast_stiffness: float = math.inf
     ballast_damping: float = 0.0
     ballast_loss_factor: float = 0.0
+    ballast_mass: float = 0.0
+    subgrade_stiffness: float = math.inf
+    subgrade_damping: float = 0.0
+    subgrade_loss_factor: float = 0.0
 
     def __post_init__(self):
         _require(self, "pad_stiffness")
         _require(self, "ballast_stiffness", allow_inf=True)
-        for name in ("pad_damping", "pad_loss_factor", "sleeper_mass", "ballast_damping", "ballast_loss_factor"):
+        _require(self, "subgrade_stiffness", allow_inf=True)
+        for name in ("pad_damping", "pad_loss_factor", "sleeper_mass", "ballast_damping", "ballast_loss_factor",
+                     "ballast_mass", "subgrade_damping", "subgrade_loss_factor"):
             _require(self, name, strict=False)
+        if self.rigid_base and not self.rigid_ground:
+            raise ScenarioError("subgrade_stiffness: a subgrade needs a ballast spring above it "
+                                f"(ballast_stiffness is inf), got {self.subgrade_stiffness!r}")
+        if self.rigid_ground and self.ballast_mass > 0:
+            raise ScenarioError(f"ballast_mass: moves only on a subgrade spring (subgrade_stiffness is inf), "
+                                f"got {self.ballast_mass!r}")
 
     @property
     def rigid_base(self) -> bool:
+        """The pad on a rigid base (no sleeper motion)."""
         return math.isinf(self.ballast_stiffness)
+
+    @property
+    def rigid_ground(self) -> bool:
+        """The ballast spring on rigid ground (no ballast mass, no subgrade)."""
+        return math.isinf(self.subgrade_stiffness)
 
     def stiffness(self, omega) -> np.ndarray:
         """Complex dynamic stiffness of the support at angular frequencies ``omega`` [rad/s]:
@@ -138,8 +170,14 @@ class Support:
         pad = self.pad_stiffness * (1.0 + 1j * self.pad_loss_factor) + 1j * w * self.pad_damping
         if self.rigid_base:
             return pad
-        below = (self.ballast_stiffness * (1.0 + 1j * self.ballast_loss_factor) + 1j * w * self.ballast_damping
-                 - self.sleeper_mass * w**2)
+        if self.rigid_ground:
+            below = (self.ballast_stiffness * (1.0 + 1j * self.ballast_loss_factor) + 1j * w * self.ballast_damping
+                     - self.sleeper_mass * w**2)
+        else:
+            ballast = self.ballast_stiffness * (1.0 + 1j * self.ballast_loss_factor) + 1j * w * self.ballast_damping
+            ground = (self.subgrade_stiffness * (1.0 + 1j * self.subgrade_loss_factor) + 1j * w * self.subgrade_damping
+                      - self.ballast_mass * w**2)
+            below = ballast * ground / (ballast + ground) - self.sleeper_mass * w**2
         return pad * below / (pad + below)
 
     def scaled(self, factor: float) -> Support:
@@ -152,7 +190,96 @@ class Support:
             sleeper_mass=self.sleeper_mass * factor,
             ballast_stiffness=self.ballast_stiffness * factor,
             ballast_damping=self.ballast_damping * factor,
+            ballast_mass=self.ballast_mass * factor,
+            subgrade_stiffness=self.subgrade_stiffness * factor,
+            subgrade_damping=self.subgrade_damping * factor,
         )
+
+
+BASES = ("ballast", "ballast_subgrade", "slab", "rigid")
+# The names a support set uses for each base, as the Support fields they fill.
+_SET_FIELDS = {
+    "ballast": ("pad_stiffness", "pad_damping", "pad_loss_factor", "sleeper_mass", "ballast_stiffness",
+                "ballast_damping", "ballast_loss_factor"),
+    "ballast_subgrade": ("pad_stiffness", "pad_damping", "pad_loss_factor", "sleeper_mass", "ballast_stiffness",
+                         "ballast_damping", "ballast_loss_factor", "ballast_mass", "subgrade_stiffness",
+                         "subgrade_damping", "subgrade_loss_factor"),
+    "slab": ("pad_stiffness", "pad_damping", "pad_loss_factor", "slab_mass", "mortar_stiffness", "mortar_damping",
+             "mortar_loss_factor"),
+    "rigid": ("pad_stiffness", "pad_damping", "pad_loss_factor"),
+}
+# A slab track is the same chain: the slab's share per rail seat on the CA-mortar layer on rigid ground.
+SLAB_AS_SUPPORT = {"slab_mass": "sleeper_mass", "mortar_stiffness": "ballast_stiffness",
+                   "mortar_damping": "ballast_damping", "mortar_loss_factor": "ballast_loss_factor"}
+
+
+def base_fields(base: str) -> tuple[str, ...]:
+    """The support values (names as in the support sets, SI) that apply to ``base``:
+    "ballast" (pad, sleeper, ballast), "ballast_subgrade" (and the ballast mass on a subgrade),
+    "slab" (fastener as the pad, slab mass, CA mortar) or "rigid" (pad only)."""
+    if base not in _SET_FIELDS:
+        raise ScenarioError(f"base: must be one of {', '.join(BASES)}, got {base!r}")
+    return _SET_FIELDS[base]
+
+
+def support_of(base: str, **values) -> Support:
+    """The :class:`Support` of ``base`` from its values (names of :func:`base_fields`, SI);
+    a value of another base is refused naming it."""
+    allowed = base_fields(base)
+    for name in values:
+        if name not in allowed:
+            raise ScenarioError(f"{name}: does not apply to base {base!r} (it takes {', '.join(allowed)})")
+    return Support(**{SLAB_AS_SUPPORT.get(k, k): float(v) for k, v in values.items()})
+
+
+@dataclass(frozen=True)
+class SupportSet:
+    """A published support set (``railwear/track/data/supports.toml``): its ``base``, the values
+    per rail seat (names of :func:`base_fields`, SI), the ``sleeper_spacing`` [m], the ``source``
+    and ``notes`` (what was assumed or derived)."""
+
+    name: str
+    base: str
+    values: dict
+    sleeper_spacing: float
+    source: str
+    notes: str = ""
+
+    @property
+    def support(self) -> Support:
+        return support_of(self.base, **self.values)
+
+
+def _support_table() -> dict:
+    with resources.files("railwear.track").joinpath("data", "supports.toml").open("rb") as fh:
+        return tomllib.load(fh)
+
+
+def support_set_names() -> tuple[str, ...]:
+    """The shipped support sets (``railwear/track/data/supports.toml``)."""
+    return tuple(_support_table())
+
+
+def support_set(name: str) -> SupportSet:
+    """A shipped support set by name: ``support_set("zhai-2004").support`` is the two-layer
+    ballasted support of Zhai, Wang & Lin (2004); the file names each set's source."""
+    table = _support_table()
+    if name not in table:
+        raise ScenarioError(f"preset: unknown support set {name!r} (known: {', '.join(table)})")
+    entry = dict(table[name])
+    meta = {k: entry.pop(k) for k in ("base", "sleeper_spacing", "source", "notes", "default_for") if k in entry}
+    base_fields(meta["base"])
+    return SupportSet(name, meta["base"], entry, float(meta["sleeper_spacing"]), meta["source"], meta.get("notes", ""))
+
+
+def default_support_set(base: str) -> SupportSet | None:
+    """The set a base takes its values from when none is named: the entry marked
+    ``default_for`` that base, or None (the bases "ballast" and "rigid" keep the values they had)."""
+    base_fields(base)
+    for name, entry in _support_table().items():
+        if entry.get("default_for") == base:
+            return support_set(name)
+    return None
 
 
 @dataclass(frozen=True)
