@@ -213,6 +213,18 @@ def _draw(ds, directory, fmt="png", dpi=120):
     return []
 
 
+def _run_failed(error, output):
+    """Exit 1 for a run that failed (a :class:`NumericalInstabilityError`), keeping its last good
+    state as ``output/last_good_state.npy`` where it has one."""
+    from railwear import results
+
+    kept = ""
+    if error.last_good is not None:
+        results.write_array(error.last_good, output / "last_good_state.npy")
+        kept = f"; the last good state (T = {error.last_time:.4g}) is in {output / 'last_good_state.npy'}"
+    _fail(f"{error}{kept}", 1)
+
+
 def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None, sets=(), fmt="png", dpi=120):
     from railwear import api, plots, report, results
 
@@ -228,11 +240,7 @@ def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None
     except ScenarioError as e:
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
-        kept = ""
-        if e.last_good is not None:
-            results.write_array(e.last_good, output / "last_good_state.npy")
-            kept = f"; the last good state (T = {e.last_time:.4g}) is in {output / 'last_good_state.npy'}"
-        _fail(f"{e}{kept}", 1)
+        _run_failed(e, output)
     results.write_netcdf(ds, output / "result.nc")
     checkpoint.unlink(missing_ok=True)
     summary = results.write_summary(ds, output)
@@ -316,8 +324,9 @@ def plot(
             paths = _draw(ds, directory, fmt, dpi)
         except ScenarioError as e:
             _fail(f"{result}: {e}", 2)
-        if not paths:
-            _fail(f"{result}: no point of the sweep ran (see its error variable); nothing to draw", 2)
+        if not paths:  # a sweep of which every point failed: a failed run railwear recorded, not bad input
+            _fail(f"{result}: no point of the sweep ran: every point failed (the first: "
+                  f"{ds.error.values.flat[0]}); nothing to draw", 1)
     else:
         from railwear.longterm.base import check_result
 
@@ -515,7 +524,7 @@ def forecast(
     except ScenarioError as e:
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
-        _fail(str(e), 1)
+        _run_failed(e, output)
     results.write_netcdf(ds, output / "forecast.nc")
     _draw(ds, output, fmt, dpi)
     text = forecasts.report(ds)

@@ -24,7 +24,7 @@ from railwear.longterm.phenomenological import Phenomenological
 from railwear.longterm.spectra import UNDEFINED
 from railwear.measured import ANGLE_UNITS, BLANK, DEVIATION_UNITS, NUMBER, read_measured, read_table
 from railwear.scenario import Scenario, load_scenario, scenario_hash, to_toml
-from railwear.scenario.schema import Solver
+from railwear.scenario.schema import MAX_SAVED_VALUES, Solver
 from railwear.scenario import build
 from railwear.units import MM, UM, kmh_to_m_s, m_s_to_kmh
 
@@ -262,6 +262,66 @@ def measured_state(u, diameter):
             "band_levels": bands.band_levels(u, diameter)}
 
 
+MAX_FORECAST_WORK = 2 * 10**9  # ETDRK4 steps x points over the samples: 2 million steps of 1024 points
+
+
+def _check_saved(rows, n_save, points):
+    """Refuse, before it runs, a forecast whose saved states (``rows`` samples, ``n_save`` times,
+    ``points``) are more than ``MAX_SAVED_VALUES``, naming ``service.samples``."""
+    if rows * n_save * points > MAX_SAVED_VALUES:
+        raise ScenarioError(f"service.samples: {rows} samples of {points} points saved {n_save} times are "
+                            f"{rows * n_save * points:.3g} values, more than MAX_SAVED_VALUES = {MAX_SAVED_VALUES:.0e}: "
+                            f"at most {MAX_SAVED_VALUES // (n_save * points)} samples at {points} points (--samples)")
+
+
+def _check_work(strategy, u0, t_end, n_save, life_km, horizon_field):
+    """Refuse, before it runs, a batched forecast (``strategy`` a :class:`Phenomenological` over the
+    samples, from ``u0`` to normed time ``t_end``) whose work is more than :data:`MAX_FORECAST_WORK`:
+    the ETDRK4 steps the step-size control starts with (each sample's largest linear growth rate
+    at the measured wheel sets them), over the samples and output intervals, times the points.
+    The refusal names ``horizon_field`` (``solver.t_end`` or ``horizon_km``) and the longest
+    horizon within the bound."""
+    from railwear.pde import as_wear_rate
+    from railwear.pde.equation import EvolutionEquation
+    from railwear.pde.solver import ETDRK4Solver, _Loop
+
+    rows, points, intervals = len(strategy.speed), u0.size, n_save - 1
+    equation = EvolutionEquation.from_input(u0, as_wear_rate(strategy.h), strategy.speed, strategy.epsilon,
+                                            strategy.nu, drift=strategy.drift, dispersion=strategy.dispersion,
+                                            dealias=strategy.options.get("dealias", True))
+    loop = _Loop(ETDRK4Solver(dt=strategy.options.get("dt"), n_save=n_save), equation, t_end)
+    steps = float(np.sum(loop.steps)) * intervals
+    if steps * points <= MAX_FORECAST_WORK:
+        return
+    # The steps scale with the horizon; rounding each row's steps per interval up (and to even)
+    # adds at most two per row and interval, which the longest horizon leaves room for.
+    longest = _round_down(t_end * (MAX_FORECAST_WORK - 2 * rows * intervals * points) / (steps * points))
+    growth = float(np.max(equation.growth_bound(loop.v)))
+    efold = life_km / growth
+    efold = _length(efold) if efold >= 1 else f"{efold * 1e3:.2g} m"
+    if horizon_field == "horizon_km":
+        asked, most = _length(t_end * life_km), _length(longest * life_km)
+    else:
+        asked = f"{t_end:.6g} ({_length(t_end * life_km)})"
+        most = f"{longest:.4g} ({_length(longest * life_km)}; --horizon-km)"
+    raise ScenarioError(
+        f"{horizon_field}: {asked} is too far to forecast: {rows} samples of {points} points take about "
+        f"{steps:.2g} ETDRK4 steps, as the fastest grows e-fold every {efold} ({growth:.2g} per life), and "
+        f"{steps * points:.2g} steps x points is more than MAX_FORECAST_WORK = {MAX_FORECAST_WORK:.0e}: "
+        f"at most {most}, or a wheel that grows slower")
+
+
+def _length(km):
+    """A distance in km as the messages write it: whole km from 10 km, else two digits."""
+    return f"{km:,.0f} km" if km >= 10 else f"{km:.2g} km"
+
+
+def _round_down(x, digits=2):
+    """``x`` > 0 rounded down to ``digits`` significant digits."""
+    unit = 10.0 ** (np.floor(np.log10(x)) - digits + 1)
+    return float(np.floor(x / unit) * unit)
+
+
 def _linear_runs(samples, u0, t_end, progress=None):
     """Each sample's scenario run by its own strategy (the Fourier technique or the multiplier law
     on its body: the disk wheel or the wheel on the track) from ``u0`` to ``t_end``, stacked over a
@@ -281,7 +341,8 @@ def _linear_runs(samples, u0, t_end, progress=None):
                       coords={"speed": speeds, "time": first.time.values, "angle": first.angle.values})
 
 
-def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=201, progress=None):
+def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=201, progress=None,
+             horizon_field="horizon"):
     """Distance (km) until the measured wheel reaches ``limit``, per sample: each sample's speed,
     load and friction run by the scenario's Fourier technique or multiplier law on its body, or
     else by the evolution equation of its ``[wear_rate]`` (batched over the samples).
@@ -291,9 +352,12 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
     normed time (default the scenario's ``solver.t_end``). Returns a Dataset with the samples'
     conditions, peak-to-peak and excess over the limit over distance, crossing distances, the
     measured wheel's state, and the quantiles in attributes. Warns (:class:`NoScatterWarning`)
-    when the samples all run the same conditions.
+    when the samples all run the same conditions. A forecast past ``MAX_SAVED_VALUES`` or
+    :data:`MAX_FORECAST_WORK` is refused before it runs (:class:`ScenarioError` naming
+    ``service.samples``, or ``horizon_field``, the horizon's name, ``solver.t_end`` without one).
     """
     limit = as_limit(limit)
+    _check_saved(scenario.service.samples, n_save, scenario.solver.points)
     diameter = 2 * scenario.wheel.radius_m
     u0 = roundness.resample_measured(angle, deviation, scenario.solver.points)
     limit.check(u0, diameter)
@@ -315,6 +379,8 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
         strategy = Phenomenological([build.wear_rate(sample) for sample in samples], kmh_to_m_s(speed), solver.epsilon,
                                     solver.nu, options={"n_save": n_save, "dealias": solver.dealias, "dt": solver.dt},
                                     life_distance=build.life_distance(scenario))
+        _check_work(strategy, u0, t_end, n_save, scenario.operation.life_distance_km,
+                    "solver.t_end" if horizon is None else horizon_field)
         ds = strategy.run(u0, t_end, progress=progress)
     life = scenario.operation.life_distance_km
     dev = (ds.u - ds.u.mean("angle")).transpose("speed", "time", "angle")
@@ -416,7 +482,7 @@ def forecast_file(measured, scenario=None, limit=0.3 * MM, samples=None, seed=No
                               f"{e.errors()[0]['msg'].removeprefix('Value error, ')}") from None
     angle, deviation = read_measured(measured, angle_unit, deviation_unit, field=str(measured),
                                      nominal_diameter=nominal_diameter)
-    return forecast(sc, angle, deviation, limit, horizon, progress=progress)
+    return forecast(sc, angle, deviation, limit, horizon, progress=progress, horizon_field="horizon_km")
 
 
 def _km(x, horizon):

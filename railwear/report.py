@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railwear.results import PER_10000_KM, summary, summary_text, write_text
+from railwear.results import PER_10000_KM, defined, growth_per_10000_km, summary, summary_text, write_text
 
 NAME = "report.html"
 STYLE = """body{font-family:sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222}
@@ -28,9 +28,12 @@ def _e(text):
 
 
 def number(value, digits=4):
-    """A number as the report writes it: ``digits`` significant digits, ``-`` for none."""
+    """A number as the report writes it: ``digits`` significant digits, ``-`` for none,
+    ``undefined`` for an undefined statistic (NaN or infinite, as the summary says)."""
     if value is None:
         return "-"
+    if not defined(value):
+        return "undefined"
     if isinstance(value, (bool, np.bool_)):
         return str(bool(value)).lower()
     if isinstance(value, (int, np.integer)):
@@ -59,7 +62,7 @@ def growth_rows(d, life_km):
         rows.append((f"{label}: ln-growth rate", float(value), float(error), "per unit normed time"))
         if per is not None:
             rows.append((f"{label}: ln-growth rate", float(value) * per, float(error) * per, "per 10 000 km"))
-            rows.append((f"{label}: growth per 10 000 km", float(np.expm1(float(value) * per)) * 100, None, "%"))
+            rows.append((f"{label}: growth per 10 000 km", growth_per_10000_km(float(value), life_km) * 100, None, "%"))
 
     if "out_of_round_growth_rate" in d:
         rate("out-of-round rms", d.out_of_round_growth_rate, d.out_of_round_growth_rate_error)

@@ -201,7 +201,7 @@ def summary(ds: xr.Dataset):
         life = float(ds.attrs.get("life_distance_km", 0.0))
         if life > 0 and entry["leading_order"] > 0:
             rate = float(d.growth_rate.sel(order=entry["leading_order"]))
-            entry["leading_growth_per_10000_km"] = _growth_per_10000_km(rate, life)
+            entry["leading_growth_per_10000_km"] = growth_per_10000_km(rate, life)
         entry.update(_polygon(d, entry, life))
         out.append(_defined(entry))
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
@@ -218,7 +218,7 @@ def _polygon(d, entry, life):
         out.update(wavelength_mm=circumference / n / MM, passing_frequency_hz=n * float(d.speed) / circumference)
         if life > 0:
             rate = float(d.growth_rate.sel(order=n))
-            out["dominant_growth_per_10000_km"] = _growth_per_10000_km(rate, life)
+            out["dominant_growth_per_10000_km"] = growth_per_10000_km(rate, life)
     if "peak_to_peak_limit" in d:
         limit = float(d.peak_to_peak_limit)
         out["peak_to_peak_limit_mm"] = limit / MM
@@ -226,21 +226,24 @@ def _polygon(d, entry, life):
     return out
 
 
-def _growth_per_10000_km(rate, life):
+def growth_per_10000_km(rate, life):
     """Growth (fraction) over 10 000 km of ln-rate ``rate`` per unit normed time of ``life`` km;
     ``inf`` past the float range (undefined in the summary)."""
     with np.errstate(over="ignore"):
         return float(np.expm1(rate * PER_10000_KM / life))
 
 
+def defined(value):
+    """Whether ``value`` (a number, or a list of them) is defined: no float in it is NaN or
+    infinite. An undefined statistic is written masked and printed as 'undefined'."""
+    items = value if isinstance(value, list) else [value]
+    return all(np.isfinite(x) for x in items if isinstance(x, (float, np.floating)))
+
+
 def _defined(entry):
     """``entry`` without its numbers that are not finite (an undefined statistic), which
     ``undefined`` lists by name; strict JSON has no NaN."""
-    def finite(v):
-        items = v if isinstance(v, list) else [v]
-        return all(np.isfinite(x) for x in items if isinstance(x, (float, np.floating)))
-
-    undefined = [k for k, v in entry.items() if not finite(v)]
+    undefined = [k for k, v in entry.items() if not defined(v)]
     out = {k: v for k, v in entry.items() if k not in undefined}
     if undefined:
         out["undefined"] = undefined
