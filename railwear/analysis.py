@@ -168,15 +168,28 @@ def figure(name, scenario=None):
 TRACK_FREQUENCIES_HZ = (10.0, 3000.0, 600)  # the receptance's default log-spaced band (low, high, points)
 
 
+def _coupled_resonances(model, low=20.0, high=150.0, points=2601):
+    """The peaks [Hz] of the bay-averaged ``|N/ū|`` between ``low`` and ``high`` Hz, lowest first, on
+    the grid of :func:`~railwear.longterm.vehicle_track.p2_frequency` (its value where there is one
+    peak); the largest value on the grid where there is none inside it."""
+    f = np.linspace(low, high, points)
+    h = np.abs(model.contact_force_transfer(2 * np.pi * f))
+    inside = np.flatnonzero((h[1:-1] > h[:-2]) & (h[1:-1] >= h[2:])) + 1
+    return [float(x) for x in f[inside]] or [float(f[np.argmax(h)])]
+
+
 def track_receptance(scenario=None, frequencies_hz=None):
     """The vertical rail receptance of a ``[body] kind = "vehicle_track"`` scenario's ``[track]`` over
     ``frequencies_hz`` (default 10-3000 Hz, log-spaced): magnitude (m N-1) and phase (deg) at
     midspan and above a sleeper, the bay-averaged normal-force transfer ``|N/ū|`` (N m-1) of the
     ``[body]`` wheel on it at the operation speed, and the pinned-pinned (discrete track) and
-    P2 frequencies (Hz)."""
+    P2 frequencies (Hz). The P2 is the lowest peak of ``|N/ū|`` over 20-150 Hz (the wheel and the
+    track bouncing together); where the support has more than one (a ballast mass on a subgrade:
+    the wheel, rail and sleepers with and against the ballast), the attribute
+    ``coupled_resonances_hz`` lists them all."""
     import xarray as xr
 
-    from railwear.longterm.vehicle_track import VehicleTrackModel, p2_frequency
+    from railwear.longterm.vehicle_track import VehicleTrackModel
     from railwear.scenario import build, load_scenario, scenario_hash
     from railwear.track import receptance
 
@@ -194,6 +207,7 @@ def track_receptance(scenario=None, frequencies_hz=None):
     alpha = np.array([receptance(track, f, p if track.discrete else 0.0) for p in positions])
     model = VehicleTrackModel(case.wheel(build.one_speed(sc)), track, sc.track.bay_positions, case.wheel_modes)
     force = model.contact_force_transfer(2 * np.pi * f)
+    peaks = _coupled_resonances(model)
     ds = xr.Dataset(
         {"receptance_magnitude": (("position", "frequency"), np.abs(alpha),
                                   {"units": "m N-1", "long_name": "vertical point receptance of the rail"}),
@@ -201,12 +215,16 @@ def track_receptance(scenario=None, frequencies_hz=None):
                               {"units": "degree", "long_name": "phase of the receptance"}),
          "contact_force_transfer": (("frequency",), np.abs(force),
                                     {"units": "N m-1", "long_name": "normal force per radius deviation, bay averaged"}),
-         "p2_frequency": ((), p2_frequency(model), {"units": "Hz", "long_name": "P2 resonance of wheel and track"})},
+         "p2_frequency": ((), peaks[0], {"units": "Hz", "long_name": "P2 resonance of wheel and track"})},
         coords={"frequency": ("frequency", f, {"units": "Hz", "long_name": "frequency"}),
                 "position": ("position", positions, {"long_name": "load position in the bay"})},
         attrs={"scenario_name": sc.name, "scenario_hash": scenario_hash(sc), "source": "track receptance",
                "track": f"{sc.track.rail} ({sc.track.beam}), {sc.track.support} support"
-                        + (f" at {sc.track.sleeper_spacing_m:g} m" if track.discrete else "")})
+                        + (f" at {sc.track.sleeper_spacing_m:g} m" if track.discrete else "")
+                        + ("" if sc.track.base == "ballast" and sc.track.preset is None else
+                           f", base {sc.track.base}" + (f" ({sc.track.preset})" if sc.track.preset else ""))})
+    if len(peaks) > 1:
+        ds.attrs["coupled_resonances_hz"] = np.array(peaks)
     if track.discrete:
         ds["pinned_pinned_frequency"] = ((), track.pinned_pinned_frequency(),
                                          {"units": "Hz", "long_name": "pinned-pinned frequency of the rail"})

@@ -8,7 +8,7 @@ from railwear.geometry import roundness
 from railwear.measured import read_measured
 from railwear.pde import Cubic, DiskContact, Table
 from railwear.scenario.schema import Scenario
-from railwear.units import GPA, KM, KN, MM, MN, UG, UM, kmh_to_m_s, m_s_to_kmh
+from railwear.units import GPA, KM, KN, MM, UG, UM, kmh_to_m_s, m_s_to_kmh
 
 def wear_rate(scenario: Scenario):
     """The ``h`` of the scenario, in SI units (rate in m per unit normed time)."""
@@ -122,15 +122,12 @@ def phenomenological(scenario: Scenario):
 
 
 def track(scenario: Scenario):
-    """The :class:`~railwear.track.Track` of ``[track]`` (SI), smeared for ``support = "continuous"``."""
-    from railwear.track import Support, Track, rail
+    """The :class:`~railwear.track.Track` of ``[track]`` (SI), smeared for ``support = "continuous"``:
+    the rail on the support of ``base`` (``railwear.track.support_of``)."""
+    from railwear.track import Track, rail, support_of
 
     t = scenario.track
-    pad = {"pad_stiffness": t.pad_stiffness_MN_m * MN, "pad_damping": t.pad_damping_kN_s_m * KN,
-           "pad_loss_factor": t.pad_loss_factor}
-    support = Support(**pad) if t.base == "rigid" else Support(
-        **pad, sleeper_mass=t.sleeper_mass_kg, ballast_stiffness=t.ballast_stiffness_MN_m * MN,
-        ballast_damping=t.ballast_damping_kN_s_m * KN, ballast_loss_factor=t.ballast_loss_factor)
+    support = support_of(t.base, **t.support_values())
     discrete = Track(rail(t.rail, loss_factor=t.rail_loss_factor), support, t.sleeper_spacing_m, t.beam)
     return discrete.smeared() if t.support == "continuous" else discrete
 

@@ -10,11 +10,11 @@ from abc import abstractmethod
 from typing import Annotated, ClassVar, Literal
 
 from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, SerializeAsAny, ValidationError,
-                      field_validator, model_validator)
+                      field_validator, model_serializer, model_validator)
 from pydantic_core import PydanticCustomError
 
 from railwear.errors import ScenarioLayoutWarning
-from railwear.units import GPA, UG, kmh_to_m_s
+from railwear.units import GPA, KN, MN, UG, kmh_to_m_s
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
@@ -468,15 +468,50 @@ def body_section(cls):
     return cls
 
 
+# [track] fields that apply to some bases only, and the scenario field of a support set's value (SI).
+TRACK_BASE_FIELDS = {
+    "ballast": ("sleeper_mass_kg", "ballast_stiffness_MN_m", "ballast_damping_kN_s_m", "ballast_loss_factor"),
+    "ballast_subgrade": ("sleeper_mass_kg", "ballast_stiffness_MN_m", "ballast_damping_kN_s_m", "ballast_loss_factor",
+                         "ballast_mass_kg", "subgrade_stiffness_MN_m", "subgrade_damping_kN_s_m",
+                         "subgrade_loss_factor"),
+    "slab": ("slab_mass_kg", "mortar_stiffness_MN_m", "mortar_damping_kN_s_m", "mortar_loss_factor"),
+    "rigid": (),
+}
+_BASE_ONLY = frozenset(name for names in TRACK_BASE_FIELDS.values() for name in names)
+_TRACK_UNITS = (("_MN_m", MN), ("_kN_s_m", KN), ("_kg", 1.0), ("_m", 1.0))  # suffix, SI per field unit
+
+
+def track_field(key):
+    """``(field, SI per unit)`` of a support set's value ``key`` (``railwear.track.base_fields``):
+    ``pad_stiffness`` is ``pad_stiffness_MN_m`` in MN/m, ``slab_mass`` ``slab_mass_kg``."""
+    suffix = {"stiffness": "_MN_m", "damping": "_kN_s_m", "mass": "_kg", "spacing": "_m"}.get(key.rsplit("_", 1)[-1], "")
+    return key + suffix, dict(_TRACK_UNITS).get(suffix, 1.0)
+
+
 class TrackSection(_Section):
     """``[track]``: one rail (``rail`` a shipped section, ``beam`` its theory, ``rail_loss_factor``)
-    on pads, sleepers and ballast per rail seat at ``sleeper_spacing_m`` (``support = "continuous"``
-    spreads them evenly over the spacing), for body ``"vehicle_track"``; ``base = "rigid"`` puts the
-    pads on a rigid base (slab track; sleeper and ballast fields then refused). Springs carry a viscous coefficient and a loss factor
-    together. ``bay_positions``: the wheel's offsets past a sleeper the Fourier technique averages
-    over; ``ring_sleepers`` and ``ring_max_frequency_hz``: the time-domain track of the stepwise and
-    direct strategies (a ring of that many bays, rail modes to that frequency, the rest as residual
-    flexibility; 1 % of the receptance to about 250 Hz at 3 kHz, see docs/vehicle_track_time.md). Defaults: ballasted track of Zhai, Wang & Lin, JSV 270 (2004) 673, with a 60E1 rail."""
+    on its support per rail seat at ``sleeper_spacing_m`` (``support = "continuous"`` spreads it
+    evenly over the spacing), for body ``"vehicle_track"``. ``base`` is what carries the pads:
+
+    - ``"ballast"``: half a sleeper (``sleeper_mass_kg``) on a ballast spring on rigid ground;
+    - ``"ballast_subgrade"``: the two-layer ballasted support, the ballast a mass (``ballast_mass_kg``)
+      on a subgrade spring (``subgrade_*``);
+    - ``"slab"``: the pads are the fasteners, on a slab (``slab_mass_kg``, its share per rail seat)
+      on a CA-mortar layer (``mortar_*``) on rigid ground;
+    - ``"rigid"``: the pads on a rigid base.
+
+    A field of another base is refused naming it. ``preset`` names a shipped support set
+    (``railwear.track.support_set_names()``; data and sources in ``railwear/track/data/supports.toml``):
+    it sets ``base`` and the support values and spacing the file does not give. ``base =
+    "ballast_subgrade"`` or ``"slab"`` without a preset takes the set marked default for it (Zhai,
+    Wang & Lin 2004; a CRTS slab of Shock Vib. 2019, 2015465); ``"ballast"`` and ``"rigid"`` keep the
+    defaults below (Zhai, Wang & Lin, JSV 270 (2004) 673, without the ballast mass and subgrade, with
+    a 60E1 rail). Springs carry a viscous coefficient and a loss factor together. ``bay_positions``:
+    the wheel's offsets past a sleeper the Fourier technique averages over; ``ring_sleepers`` and
+    ``ring_max_frequency_hz``: the time-domain track of the stepwise and direct strategies (a ring of
+    that many bays, rail modes to that frequency, the rest as residual flexibility; 1 % of the
+    receptance to about 250 Hz at 3 kHz, see docs/vehicle_track_time.md; bases "ballast", "slab" and
+    "rigid")."""
 
     rail: Literal["60E1", "54E1", "UIC60", "UIC54"] = "60E1"
     beam: Literal["euler", "timoshenko"] = "timoshenko"
@@ -487,21 +522,67 @@ class TrackSection(_Section):
     pad_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 75.0
     pad_loss_factor: Annotated[float, Field(ge=0, le=2)] = 0.0
     sleeper_mass_kg: Annotated[float, Field(ge=0, le=2000)] = 125.5  # half a sleeper
-    base: Literal["ballast", "rigid"] = "ballast"
+    base: Literal["ballast", "ballast_subgrade", "slab", "rigid"] = "ballast"
+    preset: Name | None = None
     ballast_stiffness_MN_m: Annotated[float, Field(ge=1, le=1e5)] = 137.75
     ballast_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 58.8
     ballast_loss_factor: Annotated[float, Field(ge=0, le=2)] = 0.0
+    ballast_mass_kg: Annotated[float, Field(ge=0, le=1e4)] | None = None  # under one rail seat
+    subgrade_stiffness_MN_m: Annotated[float, Field(ge=1, le=1e5)] | None = None
+    subgrade_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] | None = None
+    subgrade_loss_factor: Annotated[float, Field(ge=0, le=2)] = 0.0
+    slab_mass_kg: Annotated[float, Field(ge=1, le=1e4)] | None = None  # the slab's share per rail seat
+    mortar_stiffness_MN_m: Annotated[float, Field(ge=1, le=1e5)] | None = None
+    mortar_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] | None = None
+    mortar_loss_factor: Annotated[float, Field(ge=0, le=2)] = 0.0
     bay_positions: Annotated[int, Field(ge=1, le=256)] = 8
     ring_sleepers: Annotated[int, Field(ge=8, le=1024)] = 32
     ring_max_frequency_hz: Annotated[float, Field(ge=200, le=20000)] = 3000.0
 
     @model_validator(mode="after")
     def _base(self):
-        given = sorted(self.model_fields_set & {"sleeper_mass_kg", "ballast_stiffness_MN_m", "ballast_damping_kN_s_m",
-                                                "ballast_loss_factor"})
-        if self.base == "rigid" and given:
-            raise refuse(given[0], "does not apply to base 'rigid'")
+        given, chosen = self.model_fields_set, None
+        if self.preset is not None or self.base in ("ballast_subgrade", "slab"):
+            from railwear.track.model import default_support_set, support_set, support_set_names
+
+            if self.preset is None:
+                chosen = default_support_set(self.base)
+            elif self.preset not in support_set_names():
+                raise refuse("preset", f"must be one of {', '.join(support_set_names())}, got {self.preset!r}")
+            else:
+                chosen = support_set(self.preset)
+                if "base" in given and self.base != chosen.base:
+                    raise refuse("base", f"is {self.base!r}, but preset {self.preset!r} is a {chosen.base!r} set")
+                object.__setattr__(self, "base", chosen.base)
+        wrong = sorted((given & _BASE_ONLY) - set(TRACK_BASE_FIELDS[self.base]))
+        if wrong:
+            raise refuse(wrong[0], f"does not apply to base {self.base!r}")
+        if chosen is not None:
+            for key, value in {**chosen.values, "sleeper_spacing": chosen.sleeper_spacing}.items():
+                name, unit = track_field(key)
+                if name not in given:
+                    object.__setattr__(self, name, value / unit)
         return self
+
+    @model_serializer(mode="wrap")
+    def _applicable(self, handler):
+        """Only the fields of the chosen base (and ``preset`` when one is named), so that a scenario
+        reads back as written and the files of the bases before the new ones keep their text and hash."""
+        data = handler(self)
+        if isinstance(data, dict):
+            for name in _BASE_ONLY.difference(TRACK_BASE_FIELDS[self.base]) | ({"preset"} if self.preset is None else set()):
+                data.pop(name, None)
+        return data
+
+    def support_values(self) -> dict:
+        """The support values of the base (``railwear.track.base_fields``), SI."""
+        from railwear.track.model import base_fields
+
+        out = {}
+        for key in base_fields(self.base):
+            name, unit = track_field(key)
+            out[key] = getattr(self, name) * unit
+        return out
 
 
 class WheelsetSuspension(_Section):
