@@ -28,6 +28,21 @@ def speed_coordinates(ds, speed_m_s=None, dim=None):
     return ds.assign_coords(speed_kmh=(speed.dims, kmh, {"units": "km h-1", "long_name": "vehicle speed"}))
 
 
+def demand_attributes(scenario):
+    """The longitudinal demand a run states: the signed mean creep force over the wheel load
+    (distance-weighted over a duty cycle; > 0 traction, < 0 braking), the share of the distance
+    run braking and the cycle in words; nothing for a body that carries no demand."""
+    if not scenario.body.longitudinal_demand:
+        return {}
+    duty = scenario.operation.duty()
+    if duty is None:
+        f = scenario.contact.traction_coefficient
+        return {"mean_traction_coefficient": f, "braking_share": float(f < 0),
+                "duty_cycle": f"one operating point: creep force {f:+.4g} x wheel load"}
+    return {"mean_traction_coefficient": duty.mean_traction_coefficient, "braking_share": duty.braking_share,
+            "duty_cycle": duty.describe()}
+
+
 def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.0, resume_path=None):
     """Run a scenario (a :class:`~railwear.scenario.schema.Scenario`, a file or a built-in name).
 
@@ -77,6 +92,7 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
         "life_distance_km": scenario.operation.life_distance_km,
     })
     ds["nominal_radius"] = ((), scenario.wheel.radius_m, {"units": "m", "long_name": "nominal rolling radius"})
+    ds.attrs.update(demand_attributes(scenario))
     return check_result(speed_coordinates(ds))
 
 

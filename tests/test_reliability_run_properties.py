@@ -32,16 +32,8 @@ TINY_AND_HUGE = (1e-300, 1e300, -1e300, -1e-300)
 SLOW = {("onset", "solver.epsilon", 1000.0): "51 s: 12 800 ETDRK4 steps of 64 points",
         ("onset", "solver.n_save", 10000): "19 s", ("onset", "wear_rate.drift_rad", -1e9): "5 s",
         ("onset", "solver.points", 65536): "3 s", ("linear-dynamics", "solver.points", 65536): "24 s"}
-# Found by this suite, in files of the scenario and PDE layers (left to their owner): see the reasons.
-KNOWN = {
-    ("onset", "contact.traction_coefficient", 1e-300):
-        "DiskContact._scatter_table samples the load on a grid of step saturation_load = F / mu: "
-        "numpy's ValueError 'Maximum allowed size exceeded' (1e-8 asks for 2 GB), an internal error",
-    ("linear-dynamics", "contact.friction_coefficient", 1e-300):
-        "the refusal names 'traction_torque', an argument of the dynamics, not the scenario's field",
-    ("linear-dynamics", "contact.traction_coefficient", 1):
-        "the refusal names 'traction_torque', an argument of the dynamics, not the scenario's field",
-}
+# Found by this suite and fixed since (the refusal names the field now); none left.
+KNOWN = {}
 
 
 def _limits(annotation, metadata=()):

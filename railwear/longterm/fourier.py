@@ -88,38 +88,10 @@ def law_transfer(model, terms):
     return transfer
 
 
-@dataclass(frozen=True)
-class Fourier:
-    """Harmonic wear growth from a transfer function.
-
-    ``transfer(ω)``: driver per metre of filtered radius deviation at ``ω`` (rad/s), complex;
-    ``steady_driver`` the driver of the round wheel; ``depth_per_driver`` ``c`` (m/s per unit of
-    driver); ``wheel_speed`` Ω (rad/s); ``half_angle`` δ (rad); ``speed`` v (m/s) for distances;
-    ``radius`` R0 (m) of the wheel, for wavelengths (``None``: unknown).
-    """
-
-    transfer: Callable
-    steady_driver: float
-    depth_per_driver: float
-    wheel_speed: float
-    half_angle: float
-    speed: float
-    radius: float | None = None
-
-    def __post_init__(self):
-        for name in ("depth_per_driver", "wheel_speed", "speed"):
-            if not getattr(self, name) > 0:
-                raise ScenarioError(f"{name} must be > 0")
-        if not 0 <= self.half_angle < np.pi / 2:
-            raise ScenarioError("half_angle must lie in [0, π/2)")
-
-    def rates(self, orders):
-        """``λ_n`` (1/s, complex) for polygon orders ``n >= 1``."""
-        n = np.atleast_1d(np.asarray(orders, float))
-        if np.any(n < 1):
-            raise ScenarioError("orders must be >= 1")
-        H = np.asarray(self.transfer(n * self.wheel_speed), complex)
-        return -self.depth_per_driver * H * contact_filter(n, self.half_angle) ** 2
+class Harmonics:
+    """What follows from rates that are diagonal in the polygon order: ``rates(orders)`` (``λ_n``,
+    1/s, complex) and ``mean_rate`` (m/s) of a subclass, at its ``speed`` (m/s) on a wheel of
+    ``radius`` (m): the exact solution and its stops, and the closest local odd terms."""
 
     def odd_terms(self, power, grid_points=None):
         """Drift ``c`` and dispersion ``d`` (rad/s, rad³/s) of the local law ``c u_x + d u_xxx``
@@ -137,11 +109,6 @@ class Fourier:
         basis = np.column_stack([n, -(n**3)]) * weight[:, None]
         drift, dispersion = np.linalg.lstsq(basis, target * weight, rcond=None)[0]
         return float(drift), float(dispersion)
-
-    @property
-    def mean_rate(self):
-        """Rate of the mean radius (m/s, negative: it wears)."""
-        return -self.depth_per_driver * self.steady_driver
 
     def evolve(self, u0, t):
         """``u`` (m) at the times ``t`` (s) from ``u0`` on equally spaced angles: ``(len(t), n)``."""
@@ -228,6 +195,45 @@ class Fourier:
         raise NumericalInstabilityError(f"the Fourier solution is not finite: {why}",
                                         last_good=u[good], last_time=float(t[good]))
 
+
+@dataclass(frozen=True)
+class Fourier(Harmonics):
+    """Harmonic wear growth from a transfer function.
+
+    ``transfer(ω)``: driver per metre of filtered radius deviation at ``ω`` (rad/s), complex;
+    ``steady_driver`` the driver of the round wheel; ``depth_per_driver`` ``c`` (m/s per unit of
+    driver); ``wheel_speed`` Ω (rad/s); ``half_angle`` δ (rad); ``speed`` v (m/s) for distances;
+    ``radius`` R0 (m) of the wheel, for wavelengths (``None``: unknown).
+    """
+
+    transfer: Callable
+    steady_driver: float
+    depth_per_driver: float
+    wheel_speed: float
+    half_angle: float
+    speed: float
+    radius: float | None = None
+
+    def __post_init__(self):
+        for name in ("depth_per_driver", "wheel_speed", "speed"):
+            if not getattr(self, name) > 0:
+                raise ScenarioError(f"{name} must be > 0")
+        if not 0 <= self.half_angle < np.pi / 2:
+            raise ScenarioError("half_angle must lie in [0, π/2)")
+
+    def rates(self, orders):
+        """``λ_n`` (1/s, complex) for polygon orders ``n >= 1``."""
+        n = np.atleast_1d(np.asarray(orders, float))
+        if np.any(n < 1):
+            raise ScenarioError("orders must be >= 1")
+        H = np.asarray(self.transfer(n * self.wheel_speed), complex)
+        return -self.depth_per_driver * H * contact_filter(n, self.half_angle) ** 2
+
+    @property
+    def mean_rate(self):
+        """Rate of the mean radius (m/s, negative: it wears)."""
+        return -self.depth_per_driver * self.steady_driver
+
     @classmethod
     def disk_wheel(cls, model, law, band_width, driver="law"):
         """From a :class:`~railwear.dynamics.DiskWheelModel` (or a model with its transfer
@@ -257,6 +263,45 @@ class Fourier:
             raise ScenarioError(f"driver must be 'law' or 'normal_force', not {driver!r}")
         return cls(transfer, steady, depth_per_driver, omega, model.patch_half_length / model.radius,
                    model.speed, model.radius)
+
+
+@dataclass(frozen=True)
+class FourierCycle(Harmonics):
+    """The Fourier technique over a duty cycle: ``parts`` (one :class:`Fourier` per segment, the
+    same wheel) run the ``shares`` of the distance. Per metre the rates are the distance-weighted
+    mean ``Σ p_k λ_n^k / V_k``, exact for any order of the segments since every part is diagonal
+    in ``n`` (:mod:`railwear.longterm.duty`); seconds are counted at the mean speed
+    ``V̄ = 1 / Σ p_k / V_k``. One part is that part itself (:meth:`of`)."""
+
+    parts: tuple
+    shares: tuple
+
+    def __post_init__(self):
+        if len(self.parts) != len(self.shares) or not self.parts:
+            raise ScenarioError("a Fourier cycle needs one share per part")
+        if abs(sum(self.shares) - 1) > 1e-9 or min(self.shares) <= 0:
+            raise ScenarioError("the shares of a Fourier cycle must be > 0 and sum to 1")
+
+    @classmethod
+    def of(cls, parts, shares):
+        """The technique over the cycle; a cycle of one segment is its :class:`Fourier` itself."""
+        return parts[0] if len(parts) == 1 else cls(tuple(parts), tuple(float(p) for p in shares))
+
+    @property
+    def speed(self):
+        return 1.0 / sum(p / f.speed for p, f in zip(self.shares, self.parts))
+
+    @property
+    def radius(self):
+        return self.parts[0].radius
+
+    def rates(self, orders):
+        """``V̄ Σ_k p_k λ_n^k / V_k`` (1/s at the mean speed)."""
+        return self.speed * sum(p / f.speed * f.rates(orders) for p, f in zip(self.shares, self.parts))
+
+    @property
+    def mean_rate(self):
+        return self.speed * sum(p / f.speed * f.mean_rate for p, f in zip(self.shares, self.parts))
 
 
 @dataclass(frozen=True)

@@ -218,6 +218,7 @@ class WheelsetSection(BodySection):
     serves: ClassVar[dict] = {"samples": ("rates",)}
     starts_new: ClassVar[bool] = True
     saves_every_segment: ClassVar[bool] = True
+    longitudinal_demand: ClassVar[bool] = False  # the table wheelset runs free: no traction torque
     label: ClassVar[str] = "wheelset on real profiles"
 
     @model_validator(mode="after")

@@ -10,6 +10,9 @@ from railwear.pde import Cubic, DiskContact, Table
 from railwear.scenario.schema import Scenario
 from railwear.units import GPA, KM, KN, MM, UG, UM, kmh_to_m_s, m_s_to_kmh
 
+DISK_CONTACT_TRACTION = 1e-4  # least demand of the derived h: its load table refines as 1/f (1e-7: 2.7 GB)
+
+
 def wear_rate(scenario: Scenario):
     """The ``h`` of the scenario, in SI units (rate in m per unit normed time)."""
     w = scenario.wear_rate
@@ -19,6 +22,10 @@ def wear_rate(scenario: Scenario):
         speed = None if w.table_speed_kmh is None else kmh_to_m_s(np.array(w.table_speed_kmh))
         return Table(np.array(w.curvature_m), np.array(w.rate_m), speed)
     wheel, contact, wear = scenario.wheel, scenario.contact, scenario.wear
+    if contact.traction_coefficient < DISK_CONTACT_TRACTION:
+        raise ScenarioError(f"contact.traction_coefficient: the disk_contact form of h is derived for a traction "
+                            f"demand of at least {DISK_CONTACT_TRACTION:g} x the load (its load table refines as the "
+                            f"demand falls), not {contact.traction_coefficient:g}; use a cubic or table form")
     if wear.law != "energy":
         raise ScenarioError(f"wear.law: the disk_contact form of h is derived for the energy law, not {wear.law!r}; "
                             "use law = \"energy\" or a cubic or table form")
@@ -132,14 +139,37 @@ def track(scenario: Scenario):
     return discrete.smeared() if t.support == "continuous" else discrete
 
 
+def at_demand(scenario: Scenario, traction_coefficient):
+    """The scenario with ``contact.traction_coefficient`` set to a duty segment's demand."""
+    contact = scenario.contact.model_copy(update={"traction_coefficient": float(traction_coefficient)})
+    return scenario.model_copy(update={"contact": contact})
+
+
+def fourier_technique(scenario: Scenario):
+    """The Fourier technique on the body's linear model at the one speed, or over the segments of
+    the ``[operation]`` duty cycle (:class:`~railwear.longterm.fourier.FourierCycle`)."""
+    from railwear.longterm.fourier import Fourier, FourierCycle
+
+    duty, law = scenario.operation.duty(), wear_law(scenario)
+
+    def at(sc, speed):
+        model, band = linear_model(sc, speed)
+        return Fourier.disk_wheel(model, law, band)
+
+    if duty is None:
+        return at(scenario, one_speed(scenario))
+    parts = [at(at_demand(scenario, s.traction_coefficient), s.speed) for s in duty.segments]
+    return FourierCycle.of(parts, duty.shares)
+
+
 @builds("fourier")
 def fourier(scenario: Scenario):
-    """Strategy 2: the Fourier technique at the one speed on the linearised disk wheel, or on the
-    wheel of ``[body]`` over ``[track]`` (bay-averaged), stopping at ``solver.peak_to_peak_limit_mm``."""
-    from railwear.longterm.fourier import Fourier, FourierStrategy
+    """Strategy 2: the Fourier technique on the linearised disk wheel, or on the wheel of
+    ``[body]`` over ``[track]`` (bay-averaged), at the one speed or over the duty cycle, stopping
+    at ``solver.peak_to_peak_limit_mm``."""
+    from railwear.longterm.fourier import FourierStrategy
 
-    model, band = linear_model(scenario, one_speed(scenario))
-    technique = Fourier.disk_wheel(model, wear_law(scenario), band)
+    technique = fourier_technique(scenario)
     limit = scenario.solver.peak_to_peak_limit_mm
     return FourierStrategy(technique, life_distance(scenario), scenario.solver.n_save, body=scenario.body.kind,
                            peak_to_peak_limit=None if limit is None else limit * MM)

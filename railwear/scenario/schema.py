@@ -79,7 +79,7 @@ class Contact(_Section):
     poisson: Annotated[float, Field(ge=0, lt=0.5)] = 0.28
     rail_head_radius_m: Annotated[float, Field(ge=0.01, le=100)] = 0.3  # 100 m: a flat head
     friction_coefficient: Annotated[float, Field(gt=0, le=2)] = 0.3
-    traction_coefficient: Annotated[float, Field(gt=0, le=1)] = 0.05
+    traction_coefficient: Annotated[float, Field(ge=-1, le=1)] = 0.05  # signed: > 0 traction, < 0 braking
     load_scatter: Annotated[float, Field(ge=0.01, le=1)] = 0.2
 
 
@@ -197,27 +197,85 @@ def _section_of(registry, key, default, what):
     return pick
 
 
+class DutySegmentSection(_Section):
+    """One segment of ``[[operation.cycle]]``: its ``share`` of the distance, ``speed_kmh`` and
+    signed ``traction_coefficient`` (creep force over wheel load: > 0 traction, < 0 braking)."""
+
+    share: Annotated[float, Field(gt=0, le=1)]
+    speed_kmh: Speed_kmh
+    traction_coefficient: Annotated[float, Field(gt=-1, lt=1)]
+
+
+class LineSection(_Section):
+    """``[operation.line]``: a stopping service whose distance-weighted segments are derived
+    (:func:`railwear.longterm.duty.line_cycle`): stations ``station_spacing_km`` apart,
+    ``top_speed_kmh``, ``acceleration_m_s2`` and ``braking_m_s2``, for a ``"motor"`` wheel
+    (traction and electric braking; ``motored_share`` of the train's weight on motor wheels) or a
+    ``"trailer"`` wheel (disc braking through the contact); ``rotating_allowance`` ρ, the running
+    ``resistance`` per weight, ``bins`` speed bins per acceleration and braking phase."""
+
+    station_spacing_km: Annotated[float, Field(ge=0.1, le=1000)]
+    top_speed_kmh: Speed_kmh
+    acceleration_m_s2: Annotated[float, Field(gt=0, le=5)] = 1.0
+    braking_m_s2: Annotated[float, Field(gt=0, le=5)] = 1.0
+    wheel: Literal["motor", "trailer"] = "motor"
+    motored_share: Annotated[float, Field(gt=0, le=1)] = 1.0
+    rotating_allowance: Annotated[float, Field(ge=0, le=0.5)] = 0.08
+    resistance: Annotated[float, Field(ge=0, le=0.05)] = 0.002
+    bins: Annotated[int, Field(ge=1, le=100)] = 4
+
+
 class Operation(_Section):
+    """Speed (one, or a list for a batch) and the distance of one unit of normed life; or a duty
+    cycle instead of the speed: segments ``[[operation.cycle]]`` or a ``[operation.line]`` to
+    derive them from (their demands then replace ``contact.traction_coefficient``)."""
+
     speed_kmh: Speed_kmh | Annotated[list[Speed_kmh], Field(max_length=MAX_LIST)] | None = None
     speed_m_s: Speed_m_s | Annotated[list[Speed_m_s], Field(max_length=MAX_LIST)] | None = None
     life_distance_km: Annotated[float, Field(ge=1e-3, le=1e8)] = 50000.0  # a metre to 40 wheel lives
+    cycle: Annotated[list[DutySegmentSection], Field(min_length=1, max_length=MAX_LIST)] | None = None
+    line: LineSection | None = None
 
     @model_validator(mode="after")
     def _one_speed(self):
-        if (self.speed_kmh is None) == (self.speed_m_s is None):
-            raise ValueError("give exactly one of speed_kmh and speed_m_s")
+        if self.cycle is not None and self.line is not None:
+            raise refuse("line", "give a cycle or a line, not both")
+        speeds = [n for n in ("speed_kmh", "speed_m_s") if getattr(self, n) is not None]
+        if self.cycle is not None or self.line is not None:
+            if speeds:
+                raise refuse(speeds[0], f"the duty {'cycle' if self.line is None else 'line'} gives the speeds; leave it out")
+            if self.cycle is not None and abs(sum(s.share for s in self.cycle) - 1) > 1e-9:
+                raise refuse("cycle", f"the shares of the distance must sum to 1, not {sum(s.share for s in self.cycle):.12g}")
+            return self
+        if len(speeds) != 1:
+            raise ValueError("give exactly one of speed_kmh and speed_m_s (or a cycle or a line)")
         for name in ("speed_kmh", "speed_m_s"):
             value = getattr(self, name)
             if isinstance(value, list) and not _increasing(value):
                 raise refuse(name, "must list distinct speeds in increasing order")
         return self
 
+    def duty(self):
+        """The :class:`~railwear.longterm.duty.DutyCycle` of ``cycle`` or ``line`` (SI), or ``None``."""
+        from railwear.longterm.duty import DutyCycle, DutySegment, line_cycle
+
+        if self.cycle is not None:
+            return DutyCycle(tuple(DutySegment(s.share, kmh_to_m_s(s.speed_kmh), s.traction_coefficient)
+                                   for s in self.cycle))
+        if self.line is not None:
+            n = self.line
+            return line_cycle(n.station_spacing_km * 1e3, kmh_to_m_s(n.top_speed_kmh), n.acceleration_m_s2,
+                              n.braking_m_s2, n.wheel, n.motored_share, n.rotating_allowance, n.resistance, n.bins)
+        return None
+
     @property
     def speeds(self):
-        """Speed or speeds in m/s; a list makes a batch."""
+        """Speed or speeds in m/s; a list makes a batch; a duty cycle's mean speed (distance over time)."""
         if self.speed_kmh is not None:
             v = self.speed_kmh
             return kmh_to_m_s(v)
+        if self.speed_m_s is None:
+            return self.duty().mean_speed
         return self.speed_m_s
 
 
@@ -342,13 +400,14 @@ class StrategySection(_Section):
     another kind is an error). ``needs`` is what it asks of the ``[body]`` (a key of
     :data:`NEEDS`, ``None``: nothing, as the evolution equation of ``[wear_rate]``);
     ``reads`` which of the :data:`OPTIONAL_PARTS` it reads; ``batches_speeds`` whether a list of
-    speeds runs as one batch. A new strategy registers its
+    speeds runs as one batch; ``runs_cycles`` whether it runs an ``[operation]`` duty cycle. A new strategy registers its
     section with :func:`strategy_section` and its builder with :func:`railwear.scenario.build.builds`."""
 
     kind: str
     needs: ClassVar[str | None] = None
     reads: ClassVar[frozenset] = frozenset()
     batches_speeds: ClassVar[bool] = False
+    runs_cycles: ClassVar[bool] = False
 
 
 STRATEGY_SECTIONS: dict = {}
@@ -379,6 +438,7 @@ class FourierSection(StrategySection):
     kind: Literal["fourier"] = "fourier"
     needs: ClassVar[str] = "linear_model"
     reads: ClassVar[frozenset] = frozenset({"solver.peak_to_peak_limit_mm"})
+    runs_cycles: ClassVar[bool] = True
 
 
 @strategy_section
@@ -426,7 +486,8 @@ class BodySection(_Section):
     fields serve only some needs (``serves``: field -> needs; other fields always apply), which
     other sections it reads (``sections``, e.g. ``("track",)``), whether it starts from its new
     state rather than ``[initial]`` (``starts_new``) and whether the direct strategy saves after
-    every segment (``saves_every_segment``). A new body registers its section with
+    every segment (``saves_every_segment``), whether it carries ``contact.traction_coefficient``
+    (``longitudinal_demand``). A new body registers its section with
     :func:`body_section`; ``build(scenario, speed)`` returns the
     :class:`~railwear.longterm.base.Body` and ``linear_model(scenario, speed)`` the linear model
     with its wear band (m)."""
@@ -437,6 +498,7 @@ class BodySection(_Section):
     sections: ClassVar[tuple] = ()
     starts_new: ClassVar[bool] = False
     saves_every_segment: ClassVar[bool] = False
+    longitudinal_demand: ClassVar[bool] = True
     label: ClassVar[str] = ""
 
     def build(self, scenario, speed=None):
@@ -725,9 +787,38 @@ class Scenario(_Section):
             given = getattr(self, section).model_fields_set & set(names or type(getattr(self, section)).model_fields)
             if given and not applies:
                 raise refuse((section, sorted(given)[0]), f"applies to {to} only")
+        self._duty()
         self._orders_on_grid()
         self._stepwise_steps()
         return self
+
+    def _duty(self):
+        """A duty cycle runs with a strategy that runs one (:attr:`StrategySection.runs_cycles`)
+        and carries the demand itself; every demand stays below adhesion, ``|f| < μ``."""
+        op = self.operation
+        given = "cycle" if op.cycle is not None else "line" if op.line is not None else None
+        mu = self.contact.friction_coefficient
+        if given is None:
+            f = self.contact.traction_coefficient
+            if self.body.longitudinal_demand and abs(f) >= mu:
+                raise refuse(("contact", "traction_coefficient"), f"|{f:g}| needs more than the adhesion limit: "
+                                                                  f"must be below friction_coefficient = {mu:g}")
+            return
+        demands = [abs(s.traction_coefficient) for s in op.cycle] if op.cycle is not None else \
+            [float(max(abs(op.duty().demands)))]
+        if max(demands) >= mu:
+            where = ("operation", "cycle", demands.index(max(demands)), "traction_coefficient") if op.cycle is not None \
+                else ("operation", "line", "acceleration_m_s2" if op.line.acceleration_m_s2 >= op.line.braking_m_s2
+                      else "braking_m_s2")
+            raise refuse(where, f"a demand of {max(demands):.3g} x the wheel load needs more than the adhesion limit "
+                                f"(contact.friction_coefficient = {mu:g})")
+        if not self.strategy.runs_cycles:
+            able = [k for k, c in STRATEGY_SECTIONS.items() if c.runs_cycles]
+            raise refuse(("operation", given), f"the {self.strategy.kind} strategy runs one operating point; a duty "
+                                               f"cycle runs with the {' or '.join(able)} strategy")
+        if "traction_coefficient" in self.contact.model_fields_set:
+            raise refuse(("contact", "traction_coefficient"), f"operation.{given} gives the demand per segment; "
+                                                              "leave it out")
 
     def _orders_on_grid(self):
         """The initial orders resolved on ``solver.points``: below the Nyquist order ``points / 2``."""
