@@ -47,9 +47,15 @@ def stability(scenario=None, speeds_kmh=SPEEDS_KMH, orders=ORDERS, amplitude=Non
     if amplitude is not None and not amplitude >= 0:
         raise ScenarioError(f"amplitude: must be >= 0 (m), got {amplitude!r}")
     sc = load_scenario(scenario)
-    if sc.strategy.needs == "linear_model":
+    duty = sc.operation.duty()
+    if sc.strategy.needs == "linear_model" and duty is not None:
+        ds = _cycle_map(sc, duty, v, n.astype(int))
+        label = (f"{sc.body.label} (Fourier technique), the duty cycle's demands at each speed: mean creep "
+                 f"force {duty.mean_traction_coefficient:+.3f} x load, braking {duty.braking_share:.0%}")
+    elif sc.strategy.needs == "linear_model":
         ds = sc.body.growth_map(sc, v, n.astype(int))
-        label = f"{sc.body.label} (Fourier technique)"
+        f = sc.contact.traction_coefficient
+        label = f"{sc.body.label} (Fourier technique), creep force {f:+.3g} x load"
     else:
         from railwear.pde import stability_map
 
@@ -58,6 +64,22 @@ def stability(scenario=None, speeds_kmh=SPEEDS_KMH, orders=ORDERS, amplitude=Non
         label = f"evolution equation, crest amplitude {a / UM:g} µm"
     ds.attrs.update(scenario_name=sc.name, scenario_hash=scenario_hash(sc), source=label)
     return speed_coordinates(ds)
+
+
+def _cycle_map(sc, duty, speeds, orders):
+    """The body's growth map (1/km) at each speed averaged over the duty cycle's demands by their
+    shares of the distance (the per-metre mean, as :class:`~railwear.longterm.fourier.FourierCycle`
+    takes it at one speed); one map per distinct demand."""
+    from railwear.scenario import build
+
+    weights = {}
+    for share, demand in zip(duty.shares, duty.demands):
+        weights[float(demand)] = weights.get(float(demand), 0.0) + float(share)
+    maps = [(w, sc.body.growth_map(build.at_demand(sc, f), speeds, orders)) for f, w in weights.items()]
+    ds = maps[0][1]
+    ds["growth_rate"] = sum(w * m.growth_rate for w, m in maps).assign_attrs(ds.growth_rate.attrs)
+    ds.attrs.update(mean_traction_coefficient=duty.mean_traction_coefficient, braking_share=duty.braking_share)
+    return ds
 
 
 class FitResult(NamedTuple):

@@ -37,8 +37,9 @@ def demand_attributes(scenario):
     duty = scenario.operation.duty()
     if duty is None:
         f = scenario.contact.traction_coefficient
+        kind = "traction" if f > 0 else "braking" if f < 0 else "no longitudinal demand"
         return {"mean_traction_coefficient": f, "braking_share": float(f < 0),
-                "duty_cycle": f"one operating point: creep force {f:+.4g} x wheel load"}
+                "duty_cycle": f"one operating point: creep force {f:+.4g} x wheel load ({kind})"}
     return {"mean_traction_coefficient": duty.mean_traction_coefficient, "braking_share": duty.braking_share,
             "duty_cycle": duty.describe()}
 

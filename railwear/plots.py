@@ -303,21 +303,34 @@ def polar(ds, diameter=None):
 
 
 def stability(map_ds):
-    """Growth rate over speed and polygon order, with its zero contour."""
+    """Growth rate over speed and polygon order, with its zero contour; a map per km is drawn
+    per 10 000 km (the field's distance), and growth and decay each take the full half of the
+    colour scale, so a weak growth band is not pale beside a strong decay."""
+    import textwrap
+
+    from matplotlib.colors import TwoSlopeNorm
+
     fig, (ax,) = _figure(7, 4)
     rate = map_ds.growth_rate.values.T
-    limit = max(float(np.max(np.abs(rate))), 1e-30)
-    speed = m_s_to_kmh(map_ds.speed.values)
-    mesh = ax.pcolormesh(speed, map_ds.order.values, rate, shading="auto", cmap="RdBu_r",
-                         vmin=-limit, vmax=limit)
-    if rate.min() < 0 < rate.max() and speed.size > 1:
-        ax.contour(speed, map_ds.order.values, rate, levels=[0.0], colors="k", linewidths=1)
     units = map_ds.growth_rate.attrs.get("units", "1")
-    fig.colorbar(mesh, ax=ax, label=map_ds.growth_rate.attrs.get("long_name", "growth rate")
-                 + ("" if units == "1" else f" ({units})"))
+    label = map_ds.growth_rate.attrs.get("long_name", "growth rate") + ("" if units == "1" else f" ({units})")
+    if units == "km-1":
+        rate, label = rate * 1e4, "growth per 10 000 km (ln of amplitude ratio)"
+    low, high = float(np.min(rate)), float(np.max(rate))
+    if low < 0 < high:
+        norm = TwoSlopeNorm(0.0, low, high)
+    else:
+        limit = max(abs(low), abs(high), 1e-30)
+        norm = TwoSlopeNorm(0.0, -limit, limit)
+    speed = m_s_to_kmh(map_ds.speed.values)
+    mesh = ax.pcolormesh(speed, map_ds.order.values, rate, shading="auto", cmap="RdBu_r", norm=norm)
+    if low < 0 < high and speed.size > 1:
+        ax.contour(speed, map_ds.order.values, rate, levels=[0.0], colors="k", linewidths=1)
+    fig.colorbar(mesh, ax=ax, label=label)
     source = map_ds.attrs.get("source") or (f"crest amplitude {map_ds.attrs['amplitude'] / UM:g} µm"
                                             if "amplitude" in map_ds.attrs else "")
-    ax.set(xlabel="speed (km/h)", ylabel="polygon order", title="stability map" + (f": {source}" if source else ""))
+    ax.set(xlabel="speed (km/h)", ylabel="polygon order")
+    fig.suptitle(textwrap.fill("stability map" + (f": {source}" if source else ""), 90), fontsize="medium")
     return fig
 
 

@@ -205,7 +205,16 @@ def summary(ds: xr.Dataset):
         entry.update(_polygon(d, entry, life))
         out.append(_defined(entry))
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
-            "railwear_version": ds.attrs.get("railwear_version", ""), "runs": out}
+            "railwear_version": ds.attrs.get("railwear_version", ""), **_demand(ds), "runs": out}
+
+
+DEMAND = ("mean_traction_coefficient", "braking_share", "duty_cycle")  # api.demand_attributes
+
+
+def _demand(ds):
+    """The run's longitudinal demand (signed mean creep force over load, braking share, the cycle
+    in words) as the summary's ``demand``, where the result states it."""
+    return {"demand": {k: ds.attrs[k] for k in DEMAND}} if all(k in ds.attrs for k in DEMAND) else {}
 
 
 def _polygon(d, entry, life):
@@ -257,6 +266,8 @@ PER_10000_KM = 1e4  # km: the field's distance for wear and growth rates
 def summary_text(s):
     """A few lines for a person."""
     lines = [f"scenario {s['scenario']} (railwear {s['railwear_version']})"]
+    if "demand" in s:
+        lines.append(f"  service: {s['demand']['duty_cycle']}")
     for r in s["runs"]:
         if "band_90_mm" in r:
             lines.append(

@@ -40,7 +40,7 @@ def test_stability_of_a_fourier_scenario_is_the_transfer_function_map():
                                    build.wear_law(sc), build.band_width(sc))
     xr.testing.assert_allclose(ds.drop_vars("speed_kmh"), direct, rtol=1e-12)  # + speed_kmh
     assert ds.growth_rate.attrs["units"] == "km-1"
-    assert ds.attrs["source"] == "disk-wheel dynamics (Fourier technique)"
+    assert ds.attrs["source"] == "disk-wheel dynamics (Fourier technique), creep force +0.05 x load"
     assert ds.attrs["scenario_name"] == "linear-dynamics" and ds.attrs["scenario_hash"] == scenario_hash(sc)
 
 

@@ -143,3 +143,18 @@ def test_under_braking_the_fourier_rates_are_the_direct_runs():
     assert np.mean(direct / fourier) == pytest.approx(1.0, abs=0.03)
     per_km = float(ds.mean_removed_depth[-1]) / float(ds.distance[-1])
     assert per_km == pytest.approx(-f.mean_rate / f.speed * KM, rel=0.02)
+
+
+def test_the_stability_map_of_a_cycle_is_the_share_weighted_mean_and_says_so():
+    """At every speed, the map over the cycle's demands is ``Σ p_k g(V, f_k)`` to 1e-12, and its
+    label states the mean creep force and the braking share."""
+    sc = metro_with({"cycle": CYCLE})
+    speeds, orders = [50, 70], range(1, 21)
+    cycle = railwear.stability(sc, speeds_kmh=speeds, orders=orders)
+    parts = [railwear.stability(metro_with({"speed_kmh": 70.0}, traction_coefficient=s["traction_coefficient"]),
+                                speeds_kmh=speeds, orders=orders).growth_rate for s in CYCLE]
+    expected = sum(s["share"] * p for s, p in zip(CYCLE, parts))
+    np.testing.assert_allclose(cycle.growth_rate.values, expected.values, rtol=1e-12, atol=0)
+    mean = sum(s["share"] * s["traction_coefficient"] for s in CYCLE)  # -0.0055
+    assert f"mean creep force {mean:+.3f} x load, braking 30%" in cycle.attrs["source"]
+    assert "creep force +0.05 x load" in railwear.stability("metro", speeds_kmh=[70], orders=[8]).attrs["source"]
