@@ -94,6 +94,16 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
     })
     ds["nominal_radius"] = ((), scenario.wheel.radius_m, {"units": "m", "long_name": "nominal rolling radius"})
     ds.attrs.update(demand_attributes(scenario))
+    ds.attrs["validated_against"] = scenario.strategy.validated_against or scenario.body.validated_against
+    outside = [] if scenario.strategy.needs is None else scenario.body.scope(scenario, ds)
+    if outside:
+        import warnings
+
+        from railwear.errors import ScopeWarning
+
+        ds.attrs["outside_validation"] = "; ".join(outside)
+        for note in outside:
+            warnings.warn(f"outside what the model was validated against: {note}", ScopeWarning, stacklevel=2)
     return check_result(speed_coordinates(ds))
 
 

@@ -53,5 +53,9 @@ class ResolutionWarning(UserWarning):
     """The top of the kept spectrum grew: the grid may not resolve the solution."""
 
 
+class ScopeWarning(UserWarning):
+    """A run that lies outside what its model was validated against (the message says how)."""
+
+
 class ScenarioLayoutWarning(UserWarning):
     """A scenario written in an earlier layout was read in today's (the message says what moved)."""

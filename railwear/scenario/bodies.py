@@ -57,6 +57,8 @@ class DiskWheelSection(RollingWheel):
     pad_damping_N_s_m: Damping = 6e4
 
     label: ClassVar[str] = "disk-wheel dynamics"
+    validated_against: ClassVar[str] = ("the paper's disk wheel on a rail mass (its Figs 1-8, qualitatively) and the "
+                                         "strategies against one another (docs/strategies.md); no field observations")
 
     def model(self, scenario, speed):
         """The :class:`~railwear.dynamics.DiskWheelModel` at ``speed`` (m/s), with Hertz and Kalker constants."""
@@ -112,6 +114,36 @@ class VehicleTrackSection(RollingWheel):
 
     sections: ClassVar[tuple] = ("track",)
     label: ClassVar[str] = "wheel on the discrete track"
+    validated_against: ClassVar[str] = (
+        "metro wheels under traction at 60-80 km/h on ballasted track: the P2 resonance selects orders 6-9 as in "
+        "service; the rail receptance against an independent model (docs/vehicle_track.md)")
+    SPEEDS_KMH: ClassVar[tuple] = (40.0, 120.0)  # the speeds the field comparison covers
+    SHORTEST_WAVE: ClassVar[float] = 10.0  # patch lengths: below, the steady creep law does not hold
+
+    def scope(self, scenario, ds):
+        """Outside the validation: a speed beyond :attr:`SPEEDS_KMH`, braking (the steady contact
+        lets short waves grow), a dominant polygon shorter than :attr:`SHORTEST_WAVE` patch lengths."""
+        from railwear.units import kmh_to_m_s, m_s_to_kmh
+
+        notes, op = [], scenario.operation
+        duty = op.duty()
+        speeds = m_s_to_kmh(np.atleast_1d(duty.speeds if duty else op.speeds))
+        low, high = self.SPEEDS_KMH
+        if speeds.min() < low or speeds.max() > high:
+            notes.append(f"speed {speeds.min():g}-{speeds.max():g} km/h lies outside the {low:g}-{high:g} km/h of the field "
+                         "comparison; high-speed polygons (orders 18-26 at 250-350 km/h) are not reproduced")
+        braking = duty.braking_share if duty else float(scenario.contact.traction_coefficient < 0)
+        if braking > 0:
+            notes.append(f"braking over {braking:.0%} of the distance: with steady creep the short waves grow under "
+                         "braking; orders above about 15 are not credible until transient rolling contact is modelled")
+        if "dominant_order" in ds and "order" in ds.dims:
+            n = int(np.max(ds.dominant_order.values))
+            model = self.linear_model(scenario, kmh_to_m_s(float(np.mean(speeds))))[0]
+            wave, patch = 2 * np.pi * scenario.wheel.radius_m / max(n, 1), 2 * model.patch_half_length
+            if n > 1 and wave < self.SHORTEST_WAVE * patch:
+                notes.append(f"the dominant order {n} is {wave * 1e3:.0f} mm long, under {self.SHORTEST_WAVE:g} patch "
+                             f"lengths ({patch * 1e3:.1f} mm): the steady creep law does not hold there")
+        return notes
 
     @model_validator(mode="after")
     def _modes(self):
@@ -220,6 +252,8 @@ class WheelsetSection(BodySection):
     saves_every_segment: ClassVar[bool] = True
     longitudinal_demand: ClassVar[bool] = False  # the table wheelset runs free: no traction torque
     label: ClassVar[str] = "wheelset on real profiles"
+    validated_against: ClassVar[str] = ("the worn lateral profile of the stepwise strategy against the direct one "
+                                        "(docs/strategies.md); no field wear data")
 
     @model_validator(mode="after")
     def _ranges(self):

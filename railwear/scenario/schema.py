@@ -405,6 +405,7 @@ class StrategySection(_Section):
 
     kind: str
     needs: ClassVar[str | None] = None
+    validated_against: ClassVar[str] = ""  # a strategy that needs no body says what its model holds against
     reads: ClassVar[frozenset] = frozenset()
     batches_speeds: ClassVar[bool] = False
     runs_cycles: ClassVar[bool] = False
@@ -428,6 +429,8 @@ class PhenomenologicalSection(StrategySection):
 
     kind: Literal["phenomenological"] = "phenomenological"
     reads: ClassVar[frozenset] = EQUATION | {"wear_rate"}
+    validated_against: ClassVar[str] = ("the paper's evolution equation (its Figs 9-11: smoothing, onset, "
+                                        "polygonalisation), qualitatively; no field observations")
     batches_speeds: ClassVar[bool] = True
 
 
@@ -500,6 +503,12 @@ class BodySection(_Section):
     saves_every_segment: ClassVar[bool] = False
     longitudinal_demand: ClassVar[bool] = True
     label: ClassVar[str] = ""
+    validated_against: ClassVar[str] = ""
+
+    def scope(self, scenario, ds):
+        """Why this run lies outside what the body's model was validated against (texts; none:
+        inside). ``ds`` is the run's result."""
+        return []
 
     def build(self, scenario, speed=None):
         """The long-term body at ``speed`` (m/s; default the service mean)."""
