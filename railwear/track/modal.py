@@ -44,7 +44,7 @@ def rail_modes(track, step, max_frequency_hz, half_length):
     of ``(m ω² - κGA β²)(ρI ω² - EI β² - κGA) = (κGA β)²``, ``M = (m + ρI B²) half_length`` with
     ``ψ = B cos(β x)``, ``B = (κGA β² - m ω²) / (κGA β)``."""
     r = track.rail
-    m, EI = r.mass_per_metre, r.young_modulus * r.second_moment
+    m, EI = r.mass_per_metre, r.youngs_modulus * r.second_moment
     S, J = r.shear_coefficient * r.shear_modulus * r.area, r.rotary_inertia
     beta, omega2, mass = [], [], []
     k = 1
@@ -523,7 +523,7 @@ class RingTrack(_ModalStates):
         """``R(d)`` [m/N]: the static displacement at distance ``d`` [m] from a unit force of the
         rail modes left out (the free ring beam's Green's function less the kept modes')."""
         r = self.track.rail
-        EI, S = r.young_modulus * r.second_moment, r.shear_coefficient * r.shear_modulus * r.area
+        EI, S = r.youngs_modulus * r.second_moment, r.shear_coefficient * r.shear_modulus * r.area
         length = self.n_sleepers * self.track.sleeper_spacing
         t = np.mod(np.asarray(distance, float), length) / length
         b4 = t**4 - 2 * t**3 + t**2 - 1 / 30

@@ -40,7 +40,7 @@ class Rail:
     """One rail as a beam in vertical bending.
 
     ``mass_per_metre`` m [kg/m], ``area`` A [m²], ``second_moment`` I [m⁴] (about the horizontal
-    axis), ``young_modulus`` E and ``shear_modulus`` G [Pa], ``shear_coefficient`` κ [-] (Timoshenko
+    axis), ``youngs_modulus`` E and ``shear_modulus`` G [Pa], ``shear_coefficient`` κ [-] (Timoshenko
     shear area κA), ``loss_factor`` η [-] of the rail steel (E and G become E(1+iη), G(1+iη)).
     Rotary inertia per metre is ρI = m I / A. Standard sections: ``rail("60E1")``.
     """
@@ -48,7 +48,7 @@ class Rail:
     mass_per_metre: float
     area: float
     second_moment: float
-    young_modulus: float = 210e9
+    youngs_modulus: float = 210e9
     shear_modulus: float = 80.77e9
     shear_coefficient: float = 0.4
     loss_factor: float = 0.0
@@ -56,14 +56,14 @@ class Rail:
     source: str = ""
 
     def __post_init__(self):
-        for name in ("mass_per_metre", "area", "second_moment", "young_modulus", "shear_modulus", "shear_coefficient"):
+        for name in ("mass_per_metre", "area", "second_moment", "youngs_modulus", "shear_modulus", "shear_coefficient"):
             _require(self, name)
         _require(self, "loss_factor", strict=False)
 
     @property
     def bending_stiffness(self) -> complex:
         """E I (1 + iη) [N m²]."""
-        return self.young_modulus * self.second_moment * (1.0 + 1j * self.loss_factor)
+        return self.youngs_modulus * self.second_moment * (1.0 + 1j * self.loss_factor)
 
     @property
     def shear_stiffness(self) -> complex:
@@ -321,7 +321,7 @@ class Track:
             raise ScenarioError("sleeper_spacing: a continuous track has no pinned-pinned frequency")
         r = self.rail
         k = math.pi / self.sleeper_spacing
-        EI, m = r.young_modulus * r.second_moment, r.mass_per_metre
+        EI, m = r.youngs_modulus * r.second_moment, r.mass_per_metre
         if self.beam == "euler":
             return k**2 * math.sqrt(EI / m) / (2.0 * math.pi)
         S, J = r.shear_coefficient * r.shear_modulus * r.area, r.rotary_inertia

@@ -34,7 +34,7 @@ def test_rigid_track_gives_the_rigid_rail_disk_wheel():
         return np.max(np.abs(rates - reference) / np.abs(reference))
 
     def stiff(factor):
-        return rail("60E1", young_modulus=210e9 * factor, shear_modulus=80e9 * factor)
+        return rail("60E1", youngs_modulus=210e9 * factor, shear_modulus=80e9 * factor)
 
     coarse = error(Track(stiff(1e4), Support(pad_stiffness=1e16, sleeper_mass=1.0, ballast_stiffness=1e16), 0.6))
     fine = error(Track(stiff(1e6), Support(pad_stiffness=1e17, sleeper_mass=1.0, ballast_stiffness=1e17), 0.6))
@@ -66,7 +66,7 @@ def test_p2_resonance_of_a_heavy_wheel_on_a_beam_on_winkler_foundation():
     k = 100e6
     track = Track(r, Support(pad_stiffness=k, pad_loss_factor=0.01), beam="euler")
     w = wheel(hertz_constant=1e16, primary_stiffness=0.0, primary_damping=0.0, sprung_mass=None, traction_torque=0.0)
-    beta = (k / (4 * float(r.young_modulus) * r.second_moment)) ** 0.25
+    beta = (k / (4 * float(r.youngs_modulus) * r.second_moment)) ** 0.25
     kt, mt = 2 * k / beta, 1.5 * r.mass_per_metre / beta
     formula = np.sqrt(kt / (w.wheel_mass + mt)) / (2 * np.pi)
     f = np.linspace(40.0, 90.0, 50001)

@@ -75,7 +75,7 @@ def test_continuous_timoshenko_matches_residues(x):
 def test_static_winkler_deflection():
     """At 0 Hz the Euler beam on a spring bed deflects ``β / (2 s)`` per newton, ``β = (s/4EI)^(1/4)``."""
     r, s = rail("60E1"), 1.5e8
-    beta = (s / (4 * r.young_modulus * r.second_moment)) ** 0.25
+    beta = (s / (4 * r.youngs_modulus * r.second_moment)) ** 0.25
     got = receptance(Track(r, Support(pad_stiffness=s), beam="euler"), 0.0)
     assert abs(got / (beta / (2 * s)) - 1) < 1e-12
 
@@ -100,7 +100,7 @@ def test_pinned_pinned_formulas():
     """Euler ``(π / 2L²) sqrt(EI/m)``; Timoshenko lower and tends to it for long spans."""
     r = rail("60E1")
     euler = Track(r, SEAT, sleeper_spacing=0.6, beam="euler").pinned_pinned_frequency()
-    assert euler == pytest.approx(math.pi / (2 * 0.36) * math.sqrt(r.young_modulus * r.second_moment / r.mass_per_metre))
+    assert euler == pytest.approx(math.pi / (2 * 0.36) * math.sqrt(r.youngs_modulus * r.second_moment / r.mass_per_metre))
     timo = Track(r, SEAT, sleeper_spacing=0.6).pinned_pinned_frequency()
     assert 0.70 < timo / euler < 0.80  # 1067 / 1420 Hz
     long_timo = Track(r, SEAT, sleeper_spacing=6.0).pinned_pinned_frequency()

@@ -39,7 +39,7 @@ def test_residual_flexibility_is_the_static_tail():
     branch of the kept ones) to 1e-6."""
     model = RingTrack(METRO.track, 32, 3000.0)
     r = METRO.track.rail
-    EI, S = r.young_modulus * r.second_moment, r.shear_coefficient * r.shear_modulus * r.area
+    EI, S = r.youngs_modulus * r.second_moment, r.shear_coefficient * r.shear_modulus * r.area
     beta = 2 * np.pi * np.arange(1, 200001) / model.length
     full = (2 / model.length) * (1 / (EI * beta**4) + 1 / (S * beta**2))
     kept = model.stiffness[1::2]
