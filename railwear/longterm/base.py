@@ -71,6 +71,7 @@ class Strategy(Registered, ABC):
 
     registry: dict = {}
     monte_carlo: bool
+    checkpoint_format: str = "driven"  # its checkpoint's fields: "driven" (drive's loop) or "evolution" (the PDE solver's)
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -290,8 +291,9 @@ class Checkpoint:
         """The checkpoint of :meth:`plain`'s fields; a file of another format, or one whose
         fields are missing, unknown or of the wrong type or shape, is refused in one line.
 
-        The fields of format 2 are those of the driver's loop (:mod:`railwear.longterm.driver`)
-        or, with ``intervals``, of the evolution equation's solver (``EvolutionCheckpoint``).
+        The fields are those of the driver's loop (:mod:`railwear.longterm.driver`) or of the
+        evolution equation's solver (``EvolutionCheckpoint``), as the strategy of the ``kind``
+        says (:attr:`Strategy.checkpoint_format`).
         """
         from railwear.errors import CheckpointError
 
@@ -322,14 +324,15 @@ class Checkpoint:
         if version != CHECKPOINT_VERSION:
             raise CheckpointError(f"{source}: checkpoint format {version}, this railwear reads {CHECKPOINT_VERSION}")
         kind, key = str(kind_of("checkpoint_kind", "U", 0)), str(kind_of("fingerprint", "U", 0))
-        if kind not in strategies():
+        known = strategies()
+        if kind not in known:
             refuse(f"unknown strategy {kind[:40]!r}")
         if len(key) != 64 or any(c not in "0123456789abcdef" for c in key):
             refuse("the fingerprint is not a SHA-256")
         unknown = [k for k in data if k not in ("checkpoint_kind", "checkpoint_version", "fingerprint")
                    and not k.startswith("field_")]
         fields = {k[len("field_"):]: v for k, v in data.items() if k.startswith("field_")}
-        spec = evolution if "intervals" in fields else driven
+        spec = evolution if known[kind].checkpoint_format == "evolution" else driven
         unknown += [k for k in fields if k not in spec and not k.startswith(prefixes if spec is driven else ())]
         if unknown:
             refuse(f"unknown field {unknown[0][:40]!r}")

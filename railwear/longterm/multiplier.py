@@ -125,6 +125,8 @@ class Multiplier(Strategy, name="multiplier"):
     ``peak_to_peak_limit`` (m): stop where the wheel is that far out of round, peak to peak (the
     crossing bracketed within one ETDRK4 step, :func:`~railwear.pde.multiplier.solve_multiplier`)."""
 
+    checkpoint_format = "evolution"
+
     fourier: Fourier
     life_distance: float
     local: object = None

@@ -18,6 +18,8 @@ class Phenomenological(Strategy, name="phenomenological"):
     value or one per speed); ``life_distance`` (m) is one unit of normed time; ``radius`` (m) the
     wheel's nominal radius, for the band levels in wavelength (``None``: none)."""
 
+    checkpoint_format = "evolution"
+
     h: object
     speed: float | np.ndarray
     epsilon: float = 0.0
