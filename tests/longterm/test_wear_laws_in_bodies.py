@@ -2,8 +2,6 @@
 energy law's two paths, Archard and USFD from scenarios, and a law plugged in from outside."""
 
 from dataclasses import dataclass, replace
-from typing import Literal
-
 import numpy as np
 import pytest
 
@@ -11,7 +9,7 @@ import railwear
 from railwear.errors import ScenarioError
 from railwear.longterm.disk_wheel import DiskWheel, long_term_integrator, swept_volume, wheel_turn
 from railwear.scenario import load_scenario, parse_scenario, to_toml
-from railwear.scenario.schema import WEAR_SECTIONS, Positive, WearSection, wear_section
+from railwear.scenario.schema import WEAR_SECTIONS
 from railwear.units import MM3
 from railwear.wear import USFD, Archard, EnergyLaw, WearLaw
 
@@ -137,24 +135,11 @@ def test_a_law_without_its_fields_or_of_another_law_is_refused_in_one_line():
 
 @pytest.fixture
 def constant_law():
-    """A new wear law from outside the package: one class and its scenario section."""
+    """A new wear law from outside the package, in two files: the law and its scenario section
+    (tests/longterm/example_constant_law.py, example_constant_section.py)."""
+    import importlib
 
-    @dataclass(frozen=True)
-    class ConstantLaw(WearLaw, name="constant"):
-        rate: float  # m³/s while in contact
-
-        def volume_rate_of(self, contact):
-            return np.where(contact.normal_force > 0, self.rate, 0.0)
-
-    @wear_section
-    class ConstantWear(WearSection):
-        law: Literal["constant"] = "constant"
-        rate_mm3_per_s: Positive = 1e-3
-
-        def build(self):
-            return ConstantLaw(self.rate_mm3_per_s * MM3)
-
-    yield ConstantWear
+    yield importlib.import_module("example_constant_section").ConstantWear
     WearLaw.registry.pop("constant")
     WEAR_SECTIONS.pop("constant")
 
