@@ -71,8 +71,9 @@ EVOLUTION_RANGE = 1000.0  # the order amplitudes are drawn down to the largest /
 
 def evolution(ds, orders=6):
     """The out-of-round deviation ``u - mean(u)`` over angle and distance (paper Figs 6 and 11),
-    and beside it the amplitude of the ``orders`` largest polygon orders over distance on a log
-    axis (down to 60 dB under the largest): growing orders solid, decaying ones dashed."""
+    and beside it the amplitude of the ``orders`` polygon orders largest at the end (the dominant
+    order among them) over distance on a log axis (down to 60 dB under the largest): growing
+    orders solid, decaying ones dashed."""
     from railwear.geometry import bands
 
     rows = _rows(ds)
@@ -89,7 +90,9 @@ def evolution(ds, orders=6):
         ax.set(xlabel="angle (deg)", ylabel=along_label, xlim=(0, 360), title=f"{label}: shape over the run")
         n, amp = bands.order_amplitudes(d.u.values)
         amp = amp / UM
-        leading = np.argsort(amp.max(0))[::-1][:orders]
+        # the largest at the end first (the dominant order always among them), ties by the largest
+        # over the run: ranked by the maximum alone, equal starts let decaying orders push it out
+        leading = np.lexsort((-amp.max(0), -amp[-1]))[:orders]
         peak = float(amp.max()) or 1.0
         floor = peak / EVOLUTION_RANGE
         for j, k in enumerate(sorted(leading, key=lambda k: -amp[-1, k])):
@@ -103,8 +106,9 @@ def evolution(ds, orders=6):
         amp_ax.yaxis.set_major_formatter(lambda v, _: f"{v:g}")
         amp_ax.yaxis.set_minor_formatter(lambda v, _: f"{v:g}" if f"{v:.0e}"[0] in "25" else "")
         amp_ax.set(xlabel=along_label, ylabel="amplitude per order (µm)",
-                   title=f"the {len(leading)} largest orders: solid grow, dashed decay")
-        amp_ax.legend(fontsize="x-small", ncol=2, title="end / start", title_fontsize="x-small")
+                   title=f"the {len(leading)} orders largest at the end")
+        amp_ax.legend(fontsize="x-small", ncol=2, title="end / start (solid grow, dashed decay)",
+                      title_fontsize="x-small")
         if "distance" in ds.coords:  # long distances: a few ticks with thousands separated
             from matplotlib.ticker import MaxNLocator
 
