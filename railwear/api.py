@@ -93,6 +93,7 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
         "life_distance_km": scenario.operation.life_distance_km,
     })
     ds["nominal_radius"] = ((), scenario.wheel.radius_m, {"units": "m", "long_name": "nominal rolling radius"})
+    ds = results.with_wheel_regime(ds)  # the wheel's regime, from growth per distance (docs/outputs.md)
     ds.attrs.update(demand_attributes(scenario))
     ds.attrs["validated_against"] = scenario.strategy.validated_against or scenario.body.validated_against
     outside = [] if scenario.strategy.needs is None else scenario.body.scope(scenario, ds)

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from railwear.results import PER_10000_KM, defined, growth_per_10000_km, summary, summary_text, write_text
+from railwear.results import (PER_10000_KM, defined, growth_note, growth_per_10000_km, is_round, summary,
+                              summary_text, write_text)
 
 NAME = "report.html"
 STYLE = """body{font-family:sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222}
@@ -70,13 +71,17 @@ def growth_rows(d, life_km):
     shown = set()
     for name, label in (("leading_order", "leading order (fastest of those present at the start)"),
                         ("dominant_order", "dominant order (largest at the end)")):
-        if name not in d:
-            continue
+        if name not in d or (name == "dominant_order" and "peak_to_peak" in d and is_round(float(d.peak_to_peak))):
+            continue  # a round wheel has no largest order
         n = int(d[name])
         rows.append((label, n, None, "order" if n not in shown else "order (its rates above)"))
         if n > 0 and "growth_rate" in d and n not in shown:
             shown.add(n)
-            rate(f"order {n}", d.growth_rate.sel(order=n), d.growth_rate_error.sel(order=n))
+            note = growth_note(d, n) if "amplitude_initial" in d else None
+            if note and note.startswith("not meaningful"):  # a rate of round-off is not the wheel's
+                rows.append((f"order {n}: growth", note, None, ""))
+            else:
+                rate(f"order {n}", d.growth_rate.sel(order=n), d.growth_rate_error.sel(order=n))
     if "leading_growth_factor" in d:
         rows.append(("leading order: growth over the run", float(d.leading_growth_factor), None, "factor"))
     return rows
@@ -101,6 +106,13 @@ def polygon_rows(entry):
                 value = f"{value:,.0f}"
             out.append((label, value, unit))
     return out
+
+
+def _field_value(v):
+    """A summary field as the report's table writes it: a list joined, a table as 'key: value; ...'."""
+    if isinstance(v, dict):
+        return "; ".join(f"{k}: {_field_value(x)}" for k, x in v.items())
+    return ", ".join(number(x, 6) for x in v) if isinstance(v, list) else number(v, 6)
 
 
 def _table(head, rows):
@@ -171,8 +183,7 @@ def html_report(ds, figures=(), caught=(), compiled=False, warnings_known=True):
             parts.append("<h4>The wheel in the field's terms</h4>")
             parts.append(_table(("quantity", "value", "unit"), rows))
         parts.append("<h4>Every field of the summary</h4>")
-        parts.append(_table(("field", "value"), [(k, ", ".join(number(x, 6) for x in v) if isinstance(v, list)
-                                                  else number(v, 6)) for k, v in entry.items()]))
+        parts.append(_table(("field", "value"), [(k, _field_value(v)) for k, v in entry.items()]))
     parts.append("<h2>Figures</h2>")
     if figures:
         parts.extend(figure_html(p) for p in figures)

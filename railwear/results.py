@@ -165,27 +165,27 @@ def wheelset_summary(ds: xr.Dataset):
 
 def summary(ds: xr.Dataset):
     """Dominant order, maxima, removed depth (mm) and regime, per speed when batched; for a
-    body with its own summary (:data:`BODY_SUMMARIES`, by the result's ``body``), that one."""
+    body with its own summary (:data:`BODY_SUMMARIES`, by the result's ``body``), that one.
+
+    A number without a value is left out and named under ``undefined`` (strict JSON has no NaN),
+    and where railwear knows why, ``undefined_because`` says it: a wheel round at the end has no
+    dominant order or maxima, an order that grew from round-off or whose rate is within its
+    standard error has no growth per 10 000 km (:func:`growth_note`)."""
     if ds.attrs.get("body") in BODY_SUMMARIES:
         return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
                 "railwear_version": ds.attrs.get("railwear_version", ""),
                 "runs": [_defined(BODY_SUMMARIES[ds.attrs["body"]](ds))]}
-    batch = [d for d in ds.regime.dims]
-
-    def rows():
-        if not batch:
-            yield {}, ds
-            return
-        for i in range(ds.sizes[batch[0]]):
-            yield {batch[0]: float(ds[batch[0]][i])}, ds.isel({batch[0]: i})
-
     out = []
-    for key, d in rows():
+    life = float(ds.attrs.get("life_distance_km", 0.0))
+    for key, d in _runs(ds):
         entry = dict(key)
         entry.pop("speed", None)
         entry["speed_kmh"] = round(m_s_to_kmh(float(d.speed)), 6)
+        why = {}
         entry.update({
             "regime": str(d.regime.values),
+            "round": is_round(float(d.peak_to_peak)),
+            "round_at_start": is_round(float(d.peak_to_peak_initial)),
             "dominant_order": int(d.dominant_order),
             "maxima": int(d.maxima),
             "max_removed_depth_mm": float(d.removed_depth.isel(time=-1)) / MM,
@@ -193,19 +193,79 @@ def summary(ds: xr.Dataset):
             "peak_to_peak_initial_um": float(d.peak_to_peak_initial) / UM,
             "peak_to_peak_um": float(d.peak_to_peak) / UM,
             "stop_time": float(d.stop_time),
-            "distance_km": float(d.stop_time) * float(ds.attrs.get("life_distance_km", 0.0)),
+            "distance_km": float(d.stop_time) * life,
             "out_of_round_growth_factor": float(d.out_of_round_growth_factor),
             "leading_order": int(d.leading_order),
             "leading_growth_factor": float(d.leading_growth_factor),
         })
-        life = float(ds.attrs.get("life_distance_km", 0.0))
+        if entry["round"]:
+            for name in ("dominant_order", "maxima"):
+                entry[name] = None
+                why[name] = ROUND_WHEEL
+        if entry["round_at_start"]:
+            why["out_of_round_growth_factor"] = ROUND_START
         if life > 0 and entry["leading_order"] > 0:
-            rate = float(d.growth_rate.sel(order=entry["leading_order"]))
-            entry["leading_growth_per_10000_km"] = growth_per_10000_km(rate, life)
-        entry.update(_polygon(d, entry, life))
-        out.append(_defined(entry))
+            entry["leading_growth_per_10000_km"], note = _order_growth(d, entry["leading_order"], life)
+            if note:
+                why["leading_growth_per_10000_km"] = note
+        polygon, notes = _polygon(d, entry, life)
+        entry.update(polygon)
+        why.update(notes)
+        out.append(_defined(entry, why))
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
             "railwear_version": ds.attrs.get("railwear_version", ""), **_demand(ds), "runs": out}
+
+
+def _runs(ds):
+    """``(key, run)`` per row of a long-term result: ``{}`` and the result itself, or per entry of
+    its batch dimension ``{dim: value}`` and that row."""
+    batch = list(ds.regime.dims) if "regime" in ds else [d for d in ds.u.dims if d not in ("time", "angle")]
+    if not batch:
+        yield {}, ds
+        return
+    for i in range(ds.sizes[batch[0]]):
+        yield {batch[0]: float(ds[batch[0]][i])}, ds.isel({batch[0]: i})
+
+
+ROUND_PEAK_TO_PEAK = 1e-12  # m: a wheel with less peak to peak than 1 pm is round (no out-of-round to read)
+ROUND_OFF_SHARE = 1e-9  # an order starting below this share of the largest amplitude starts at round-off
+ROUND_WHEEL = "the wheel is round at the end (peak to peak under 1 pm): no order is the largest"
+ROUND_START = "the wheel is round at the start (peak to peak under 1 pm): no out-of-round to grow"
+
+
+def is_round(peak_to_peak):
+    """Whether a wheel of ``peak_to_peak`` (m) is round: under :data:`ROUND_PEAK_TO_PEAK`."""
+    return bool(peak_to_peak < ROUND_PEAK_TO_PEAK)
+
+
+def growth_note(d, n):
+    """Why order ``n`` of the run ``d`` has no growth rate worth printing, or None when it has one:
+    it started at round-off (under :data:`ROUND_OFF_SHARE` of the largest amplitude at the start,
+    so its fitted rate is that of numerical noise, not of the wheel), its rate is undefined, or
+    its standard error is as large as the rate itself."""
+    start = d.amplitude_initial.values
+    a0 = float(d.amplitude_initial.sel(order=n))
+    if not a0 >= ROUND_OFF_SHARE * float(start.max()) or a0 == 0:
+        return (f"not meaningful: order {n} grew from round-off ({a0:.2g} m at the start, under "
+                f"{_short(ROUND_OFF_SHARE)} of the largest amplitude then), so its fitted rate is not the wheel's")
+    rate, error = float(d.growth_rate.sel(order=n)), float(d.growth_rate_error.sel(order=n))
+    if not np.isfinite(rate):
+        return f"undefined: {d.growth_rate.attrs.get('undefined_because', 'no fitted rate')}"
+    if np.isfinite(error) and error >= abs(rate):
+        return f"undefined: the standard error of its rate ({error:.2g}) is as large as the rate ({rate:.2g})"
+    return None
+
+
+def _short(x):
+    """``1e-9`` for 1e-09: a number as people write it."""
+    return f"{x:g}".replace("e-0", "e-").replace("e+0", "e")
+
+
+def _order_growth(d, n, life):
+    """``(growth per 10 000 km of order n, note)``; the growth is NaN where :func:`growth_note`
+    gives a reason, which is the note."""
+    note = growth_note(d, n)
+    return (float("nan") if note else growth_per_10000_km(float(d.growth_rate.sel(order=n)), life)), note
 
 
 DEMAND = ("mean_traction_coefficient", "braking_share", "duty_cycle")  # api.demand_attributes
@@ -220,19 +280,80 @@ def _demand(ds):
 def _polygon(d, entry, life):
     """The dominant polygon in the field's terms: wavelength on the tread ``2π R0 / n`` (mm), the
     frequency it excites ``n V / (2π R0)`` (Hz), its growth per 10 000 km, and where the run met
-    the out-of-roundness limit (km; None if it did not)."""
-    out, n = {}, entry["dominant_order"]
-    if "nominal_radius" in d and n > 0:
+    the out-of-roundness limit (km; None if it did not). Returns ``(fields, why undefined)``."""
+    out, why, n = {}, {}, entry["dominant_order"]
+    if "nominal_radius" in d and n:
         circumference = 2 * np.pi * float(d.nominal_radius)
         out.update(wavelength_mm=circumference / n / MM, passing_frequency_hz=n * float(d.speed) / circumference)
         if life > 0:
-            rate = float(d.growth_rate.sel(order=n))
-            out["dominant_growth_per_10000_km"] = growth_per_10000_km(rate, life)
+            out["dominant_growth_per_10000_km"], note = _order_growth(d, n, life)
+            if note:
+                why["dominant_growth_per_10000_km"] = note
     if "peak_to_peak_limit" in d:
         limit = float(d.peak_to_peak_limit)
         out["peak_to_peak_limit_mm"] = limit / MM
         out["limit_distance_km"] = entry["distance_km"] if float(d.peak_to_peak) >= limit * (1 - 1e-9) else None
-    return out
+    return out, why
+
+
+# The regime of the wheel (issue 22, item 3), from growth rates per distance and the state the wheel
+# reached; never from a factor over the run, which a run stopped sooner at its limit reads smaller.
+# Growth g per 10 000 km (the field's distance): g = exp(rate x 10 000 km / life) - 1.
+POLYGON_ORDER_GROWTH = 0.10  # the largest order at the end grows at least 10 % per 10 000 km: a polygon forms
+POLYGON_RMS_GROWTH = 0.50  # or the out-of-round rms grows at least 50 % per 10 000 km
+SMOOTHING_RMS_GROWTH = -0.20  # the out-of-round rms falls by at least 20 % per 10 000 km: smoothing
+ONSET_GROWTH = 0.01  # an order the wheel has, or the rms, grows at least 1 % per 10 000 km: onset
+SEEDED_SHARE = 0.01  # an order the wheel has: at least 1 % of its largest amplitude at the start
+SIGNIFICANT = 2.0  # a rate counts when it exceeds this many standard errors
+
+REGIME_RULE = (
+    "from growth per 10 000 km (exp(fitted ln-rate x 10 000 km) - 1) and the state reached, not from the "
+    "growth over the run: polygonalising when the largest order at the end, one the wheel had at the start "
+    "(at least 1 % of its largest amplitude then), grows at least 10 % per 10 000 km, or the out-of-round "
+    "rms grows at least 50 % per 10 000 km; smoothing when the rms falls at least 20 % per 10 000 km; "
+    "onset when an order the wheel had at the start, or the rms, grows at least 1 % per 10 000 km; else "
+    "stable (a round wheel too). A rate counts only beyond 2 standard errors")
+
+
+def wheel_regime(d, life):
+    """The regime of the run ``d`` (one row of a long-term result) by :data:`REGIME_RULE`, the
+    normed life being ``life`` km: the same wheel at the same speed gets the same label whatever
+    its start amplitude, limit or strategy, as far as its growth rates agree."""
+    per = PER_10000_KM / life
+    rate = np.asarray(d.growth_rate.values, float) * per
+    error = np.asarray(d.growth_rate_error.values, float) * per
+    start = np.asarray(d.amplitude_initial.values, float)
+    with np.errstate(invalid="ignore"):
+        counts = np.isfinite(rate) & (np.abs(rate) > SIGNIFICANT * np.where(np.isfinite(error), error, 0.0))
+        seeded = start >= SEEDED_SHARE * start.max() if start.max() > 0 else np.zeros(start.size, bool)
+    rms = float(d.out_of_round_growth_rate) * per
+    rms_error = float(d.out_of_round_growth_rate_error) * per
+    rms_counts = np.isfinite(rms) and abs(rms) > SIGNIFICANT * (rms_error if np.isfinite(rms_error) else 0.0)
+    if is_round(float(d.peak_to_peak)) and is_round(float(d.peak_to_peak_initial)):
+        return "stable"
+    k = int(d.dominant_order) - 1
+    if not is_round(float(d.peak_to_peak)) and seeded[k] and counts[k] and rate[k] >= np.log1p(POLYGON_ORDER_GROWTH):
+        return "polygonalising"
+    if rms_counts and rms >= np.log1p(POLYGON_RMS_GROWTH):
+        return "polygonalising"
+    if rms_counts and rms <= np.log1p(SMOOTHING_RMS_GROWTH):
+        return "smoothing"
+    if (rms_counts and rms >= np.log1p(ONSET_GROWTH)) or np.any(seeded & counts & (rate >= np.log1p(ONSET_GROWTH))):
+        return "onset"
+    return "stable"
+
+
+def with_wheel_regime(ds):
+    """``ds`` with ``regime`` by :func:`wheel_regime` (its ``rule`` attribute that rule), where it
+    has the growth rates and a normed life in km; otherwise ``ds`` as it is."""
+    life = float(ds.attrs.get("life_distance_km", 0.0))
+    if not (life > 0 and "regime" in ds and "growth_rate" in ds and "amplitude_initial" in ds):
+        return ds
+    labels = [wheel_regime(d, life) for _, d in _runs(ds)]
+    ds["regime"] = (ds.regime.dims, np.array(labels, dtype=str).reshape(ds.regime.shape),
+                    {"long_name": "wear regime of the wheel (stable, smoothing, onset, polygonalising)",
+                     "rule": REGIME_RULE})
+    return ds
 
 
 def growth_per_10000_km(rate, life):
@@ -249,13 +370,18 @@ def defined(value):
     return all(np.isfinite(x) for x in items if isinstance(x, (float, np.floating)))
 
 
-def _defined(entry):
-    """``entry`` without its numbers that are not finite (an undefined statistic), which
-    ``undefined`` lists by name; strict JSON has no NaN."""
-    undefined = [k for k, v in entry.items() if not defined(v)]
+def _defined(entry, why=None):
+    """``entry`` without its numbers that are not finite (an undefined statistic) or None for
+    a reason in ``why``; ``undefined`` lists them by name and ``undefined_because`` gives the
+    reasons railwear knows. Strict JSON has no NaN."""
+    why = why or {}
+    undefined = [k for k, v in entry.items() if not defined(v) or (v is None and k in why)]
     out = {k: v for k, v in entry.items() if k not in undefined}
     if undefined:
         out["undefined"] = undefined
+    because = {k: why[k] for k in undefined if k in why}
+    if because:
+        out["undefined_because"] = because
     return out
 
 
@@ -264,47 +390,82 @@ PER_10000_KM = 1e4  # km: the field's distance for wear and growth rates
 
 
 def summary_text(s):
-    """A few lines for a person."""
+    """A few lines for a person (:func:`run_lines` per run)."""
     lines = [f"scenario {s['scenario']} (railwear {s['railwear_version']})"]
     if "demand" in s:
         lines.append(f"  service: {s['demand']['duty_cycle']}")
     for r in s["runs"]:
-        if "band_90_mm" in r:
-            lines.append(
-                f"  {r['speed_kmh']:g} km/h, wheelset {r['strategy']}: after {r['distance_km']:.0f} km worn "
+        lines.extend("  " + line for line in run_lines(r))
+    return "\n".join(lines) + "\n"
+
+
+def run_lines(r):
+    """The summary lines of one run ``r`` (an entry of :func:`summary`'s ``runs``), worded for
+    the edges: a wheel round at the end or the start says so (no dominant order, no maxima, no
+    growth), order 1 is the eccentricity, '1 maximum', a growth per 10 000 km in two significant
+    digits (never '-0%'), and a growth that is undefined or not meaningful says which and why."""
+    if "band_90_mm" in r:
+        return [f"{r['speed_kmh']:g} km/h, wheelset {r['strategy']}: after {r['distance_km']:.0f} km worn "
                 f"{r['left_max_worn_depth_mm'] * MM / UM:.2f} / {r['right_max_worn_depth_mm'] * MM / UM:.2f} um at most "
                 f"(left / right), 90 % of the volume in a band {r['band_90_mm']:.1f} mm wide; last step: "
                 f"lateral amplitude {r['lateral_amplitude_mm']:.2f} mm, contact from {r['contact_range_mm'][0]:.1f} "
                 f"to {r['contact_range_mm'][1]:.1f} mm; {r['steps']} steps, {r['cost_seconds_simulated']:g} s "
-                f"simulated, {r['cost_tables']} contact tables")
-            continue
-        growth = (f"x{r['out_of_round_growth_factor']:.2f}" if "out_of_round_growth_factor" in r else "growth undefined")
+                f"simulated, {r['cost_tables']} contact tables"]
+    if r.get("round"):
+        shape = "round at the end (peak to peak under 1 pm: no dominant order, no maxima)"
+    else:
+        n = r["dominant_order"]
+        shape = f"{plural(r['maxima'], 'maximum', 'maxima')}, dominant order {n}" + (" (eccentricity)" if n == 1 else "")
+    if r.get("round_at_start"):
+        growth = "round at the start: out-of-round growth undefined, nothing to grow"
+    else:
+        rms = (f"x{r['out_of_round_growth_factor']:.2f}" if "out_of_round_growth_factor" in r else "growth undefined")
         leading = (f"fastest order present at the start {r['leading_order']} (x{r['leading_growth_factor']:.2f}"
                    + _growth_text(r, "leading_growth_per_10000_km") + ")" if r["leading_order"] > 0 else
                    "no order present at the start has a defined growth rate")
-        lines.append(
-            f"  {r['speed_kmh']:g} km/h: {r['regime']}, {r['maxima']} maxima, dominant order "
-            f"{r['dominant_order']}, removed {r['max_removed_depth_mm']:.3f} mm at the most worn "
-            f"spot ({r['mean_removed_depth_mm']:.3f} mm mean) after {r['distance_km']:.0f} km; "
-            f"peak-to-peak {r['peak_to_peak_initial_um']:.1f} -> {r['peak_to_peak_um']:.1f} um; "
-            f"out-of-round rms {growth} over the run, {leading}")
-        if "wavelength_mm" in r:
-            growth = _growth_text(r, "dominant_growth_per_10000_km")
-            lines.append(f"  order-{r['dominant_order']} polygon: wavelength {r['wavelength_mm']:.0f} mm on the tread, "
+        growth = f"out-of-round rms {rms} over the run, {leading}"
+    lines = [f"{r['speed_kmh']:g} km/h: {r['regime']}, {shape}, removed {r['max_removed_depth_mm']:.3f} mm at the "
+             f"most worn spot ({r['mean_removed_depth_mm']:.3f} mm mean) after {r['distance_km']:.0f} km; "
+             f"peak-to-peak {r['peak_to_peak_initial_um']:.1f} -> {r['peak_to_peak_um']:.1f} um; {growth}"]
+    if "wavelength_mm" in r:
+        growth = _growth_text(r, "dominant_growth_per_10000_km")
+        if r["dominant_order"] == 1:
+            lines.append(f"eccentricity (order 1): once per revolution, {r['passing_frequency_hz']:.1f} Hz{growth}")
+        else:
+            lines.append(f"order-{r['dominant_order']} polygon: wavelength {r['wavelength_mm']:.0f} mm on the tread, "
                          f"passing at {r['passing_frequency_hz']:.1f} Hz{growth}")
-        if "peak_to_peak_limit_mm" in r:
-            reached = (f"reached after {r['limit_distance_km']:,.0f} km" if r["limit_distance_km"] is not None
-                       else f"not reached in {r['distance_km']:,.0f} km")
-            lines.append(f"  out-of-roundness limit {r['peak_to_peak_limit_mm']:g} mm peak to peak: {reached}")
-    return "\n".join(lines) + "\n"
+    if "peak_to_peak_limit_mm" in r:
+        reached = (f"reached after {r['limit_distance_km']:,.0f} km" if r["limit_distance_km"] is not None
+                   else f"not reached in {r['distance_km']:,.0f} km")
+        lines.append(f"out-of-roundness limit {r['peak_to_peak_limit_mm']:g} mm peak to peak: {reached}")
+    return lines
+
+
+def plural(count, one, many):
+    """``1 maximum``, ``0 maxima``, ``8 maxima``."""
+    return f"{count} {one if count == 1 else many}"
+
+
+def percent(fraction):
+    """A growth ``fraction`` as a signed percentage of two significant digits and no more decimals
+    than that needs: ``+20%``, ``+132%``, ``+4.7%``, ``-0.24%``; ``0%`` only for no change."""
+    p = 100.0 * fraction
+    if p == 0:
+        return "0%"
+    rounded = float(f"{p:.2g}")  # two significant digits first: 9.96 is 10, not 10.0
+    decimals = max(0, 1 - int(np.floor(np.log10(abs(rounded)))))
+    return f"{p:+.{decimals}f}%"
 
 
 def _growth_text(r, key):
-    """``, +20% per 10 000 km`` for the growth ``r[key]``; 'undefined' where the summary lists it
-    as undefined, nothing where it has none."""
+    """``, +20% per 10 000 km`` for the growth ``r[key]``; where the summary lists it as undefined,
+    'undefined' or 'not meaningful' with the reason it gives; nothing where it has none."""
     if key in r:
-        return f", {r[key]:+.0%} per 10 000 km"
-    return ", growth per 10 000 km undefined" if key in r.get("undefined", ()) else ""
+        return f", {percent(r[key])} per 10 000 km"
+    if key not in r.get("undefined", ()):
+        return ""
+    why = r.get("undefined_because", {}).get(key)
+    return f", growth per 10 000 km {why}" if why else ", growth per 10 000 km undefined"
 
 
 def write_summary(ds, directory):
