@@ -472,21 +472,48 @@ def sweep(
 
 
 def _print_sweep_table(ds):
+    """The sweep as a table: per point the regime, the dominant order and maxima at the end, the
+    distance to the out-of-roundness limit (km; 'beyond' the distance run where the run did not
+    reach it), the dominant order's growth per 10 000 km and the depth removed; the peak-to-peak
+    ratio over the run where the scenario sets no limit."""
+    import numpy as np
     from rich.console import Console
     from rich.table import Table
 
+    from railwear.results import percent
     from railwear.units import MM
 
     fields = [c for c in ds.coords if c != "angle"]
-    table = Table(*fields, "regime", "maxima", "order", "depth (mm)", "p-p end/start")
+    limit = "limit_distance" in ds
+    head = [*fields, "regime", "order", "maxima"]
+    if limit:
+        head.append(f"to {float(ds.peak_to_peak_limit) / MM:g} mm p-p (km)" if "peak_to_peak_limit" in ds
+                    else "to the limit (km)")
+    if "dominant_growth_per_10000_km" in ds:
+        head.append("growth / 10 000 km")
+    head.append("depth (mm)")
+    if not limit:
+        head.append("p-p end/start")
+    table = Table(*head)
     flat = ds.drop_vars("u_final", errors="ignore").stack(point=list(ds.regime.dims)) if ds.regime.ndim > 1 else ds
     for i in range(flat.regime.size):
         p = flat.isel({flat.regime.dims[0]: i})
-        ratio = float(p.peak_to_peak / p.peak_to_peak_initial) if float(p.peak_to_peak_initial) else float("nan")
-        table.add_row(*(f"{float(p[f]):g}" for f in fields), str(p.regime.values),
-                      f"{float(p.maxima):.0f}", f"{float(p.dominant_order):.0f}",
-                      f"{float(p.max_removed_depth) / MM:.3f}", f"{ratio:.2f}")
-    Console(width=120).print(table)
+        ran = str(p.regime.values) != "failed"
+        row = [*(f"{float(p[f]):g}" for f in fields), str(p.regime.values)]
+        row += [f"{int(p.dominant_order)}" if ran else "-", f"{int(p.maxima)}" if ran else "-"]
+        if limit:
+            km = float(p.limit_distance)
+            row.append(f"{km:,.0f}" if np.isfinite(km) else
+                       f"beyond {float(p.distance_run):,.0f}" if ran and "distance_run" in p else "-")
+        if "dominant_growth_per_10000_km" in ds:
+            g = float(p.dominant_growth_per_10000_km)
+            row.append(percent(g / 100) if np.isfinite(g) else ("undefined" if ran else "-"))
+        row.append(f"{float(p.max_removed_depth) / MM:.3f}" if ran else "-")
+        if not limit:
+            start = float(p.peak_to_peak_initial)
+            row.append(f"{float(p.peak_to_peak) / start:.2f}" if ran and start else "-")
+        table.add_row(*row)
+    Console(width=140).print(table)
 
 
 @app.command()
@@ -531,6 +558,47 @@ def forecast(
     results.write_text(text, output / "forecast.txt")
     typer.echo(text, nl=False)
     typer.echo(f"wrote {output / 'forecast.nc'}")
+
+
+@app.command("plan")
+def plan_policies(
+    scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name whose body gives a "
+                                                           "linear model (the Fourier technique; default metro)")] = None,
+    policy: Annotated[list[str], typer.Option("--policy", help="policy TOML file or built-in name (metro-interval, "
+                                                               "metro-condition, metro-noise); repeat to compare")] = [],
+    samples: Annotated[int, typer.Option(help="wheels drawn from the scenario's [service] besides wheel 0 "
+                                              "(0: the one wheel of the scenario's conditions)")] = 0,
+    seed: Annotated[Optional[int], typer.Option(help="seed of the draw (default: the scenario's service.seed)")] = None,
+    growth: Annotated[str, typer.Option(help="multipliers on the polygon growth rates, v1,v2,... or A:B:STEP "
+                                             "(no field growth rate of a polygon is published)")] = "0.5,1,2",
+    horizon_km: Annotated[float, typer.Option(help="a life not scrapped by then ends there, not scrapped")] = 1e7,
+    output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-plan"),
+    figures: Annotated[bool, typer.Option(help="write the figure as PNG")] = True,
+    sets: Sets = [],
+    fmt: Format = "png",
+    dpi: Dpi = 120,
+):
+    """A wheel's life to scrap under maintenance policies: turnings, distance to scrap, km per mm of
+    diameter; DIR/plan.nc, plan.txt, plan.csv, turnings.csv, plan.png."""
+    from railwear.maintenance import outputs
+    from railwear.maintenance.plan import plan
+
+    _option(horizon_km, "--horizon-km", 1e3, 1e8)
+    _figure_options(fmt, dpi)
+    if not policy:
+        _fail("--policy: give at least one policy file or built-in name (metro-interval, metro-condition, metro-noise)", 2)
+    multipliers = _parse_range(growth, "--growth")
+    try:
+        _output(output)
+        with _Warnings(), _Progress("railwear plan") as progress:
+            ds = plan(_scenario(scenario, sets), policy, samples, seed, multipliers, horizon_km, progress=progress)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    except NumericalInstabilityError as e:
+        _run_failed(e, output)
+    paths = outputs.write(ds, output, fmt, dpi, figures)
+    typer.echo(outputs.report(ds), nl=False)
+    typer.echo(f"wrote {', '.join(str(p) for p in paths)}")
 
 
 @app.command("hunting-map")

@@ -407,40 +407,110 @@ REGIME_COLOURS = {"stable": "#4daf4a", "smoothing": "#377eb8", "onset": "#ff7f00
                   "polygonalising": "#e41a1c", "failed": "#999999"}
 
 
+FLAT = 1e-9  # a relative spread below this is round-off: the quantity is drawn flat, with ticks
+UNIT_SUFFIXES = {"_kmh": "km/h", "_m_s": "m/s", "_kN": "kN", "_MN_m": "MN/m", "_N_m": "N/m", "_kN_s_m": "kN s/m",
+                 "_N_s_m": "N s/m", "_kg_m2": "kg m²", "_kg": "kg", "_mm": "mm", "_um": "µm", "_m": "m",
+                 "_GPa": "GPa", "_km": "km", "_deg": "deg"}
+
+
+def field_label(field):
+    """A scenario field as an axis label: its dotted name with the unit its name carries,
+    ``operation.speed_kmh (km/h)``."""
+    unit = next((u for suffix, u in UNIT_SUFFIXES.items() if field.endswith(suffix)), None)
+    return f"{field} ({unit})" if unit else field
+
+
+def flat_if_round_off(ax, values, axis="y"):
+    """Draw a quantity whose finite ``values`` spread by less than :data:`FLAT` of their size as
+    constant: a linear axis a few per cent either side, with plain ticks, never the round-off
+    autoscaled into a cliff. Returns whether it did."""
+    from matplotlib.ticker import ScalarFormatter
+
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return False
+    middle = float(np.mean(v))
+    if np.ptp(v) > FLAT * max(abs(middle), np.finfo(float).tiny):
+        return False
+    half = 0.05 * abs(middle) if middle else 1.0
+    getattr(ax, f"set_{axis}scale")("linear")
+    getattr(ax, f"set_{axis}lim")(middle - half, middle + half)
+    formatter = ScalarFormatter(useOffset=False)
+    getattr(ax, f"{axis}axis").set_major_formatter(formatter)
+    return True
+
+
 def sweep(ds):
-    """The regime over the varied fields: a line for one field, a map for two, points for samples."""
+    """What a sweep answers, over the varied fields: for one field the distance to the
+    out-of-roundness limit (km) per point, coloured by regime and labelled with the dominant
+    order (the peak-to-peak over the run where the scenario has no limit); a map of the regime for
+    two fields, points for samples. A quantity constant to round-off is drawn flat."""
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
     fields = [c for c in ds.coords if c != "angle"]
     regimes = ds.regime.values
     colours = np.vectorize(lambda r: REGIME_COLOURS.get(str(r), "#999999"))(regimes)
-    growth = (ds.peak_to_peak / ds.peak_to_peak_initial).values
+    ran = regimes != "failed"
+    order = np.where(ran, ds.dominant_order.values, 0) if "dominant_order" in ds else np.zeros(regimes.shape, int)
+    if "limit_distance" in ds:
+        limit = (f"{float(ds.peak_to_peak_limit) / MM:g} mm peak-to-peak " if "peak_to_peak_limit" in ds else "")
+        reached = np.isfinite(ds.limit_distance.values)
+        y = np.where(reached, ds.limit_distance.values, ds.distance_run.values if "distance_run" in ds else np.nan)
+        ylabel, log = f"distance to the {limit}limit (km)", False
+    else:
+        reached = np.ones(regimes.shape, bool)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            y = (ds.peak_to_peak / ds.peak_to_peak_initial).values
+        ylabel, log = "peak-to-peak end / start", True
     fig, (ax,) = _figure(7, 4.5)
+    handles = []
     if "sample" in ds.dims or len(fields) > 2:
         x = ds[fields[0]].values.ravel()
-        y = ds[fields[1]].values.ravel() if len(fields) > 1 else growth.ravel()
-        ax.scatter(x, y, c=colours.ravel(), s=30)
-        ax.set(xlabel=fields[0], ylabel=fields[1] if len(fields) > 1 else "peak-to-peak end / start")
+        other = ds[fields[1]].values.ravel() if len(fields) > 1 else y.ravel()
+        ax.scatter(x, other, c=colours.ravel(), s=30)
+        ax.set(xlabel=field_label(fields[0]), ylabel=field_label(fields[1]) if len(fields) > 1 else ylabel)
+        if len(fields) == 1 and not flat_if_round_off(ax, other) and log:
+            ax.set_yscale("log")
+        title = "regime of each sample"
     elif len(fields) == 1:
         x = ds[fields[0]].values
-        ax.plot(x, growth, color="k", lw=1)
-        ax.scatter(x, growth, c=colours, s=40, zorder=3)
-        for xi, gi, m in zip(x, growth, ds.maxima.values):
-            if np.isfinite(m):
-                ax.annotate(f"{int(m)}", (xi, gi), textcoords="offset points", xytext=(0, 6),
-                            ha="center", fontsize="small")
-        ax.set(xlabel=fields[0], ylabel="peak-to-peak end / start (labels: maxima)", yscale="log")
+        ax.plot(x[ran], y[ran], color="k", lw=1)
+        ax.scatter(x[ran & reached], y[ran & reached], c=colours[ran & reached], s=40, zorder=3)
+        if np.any(ran & ~reached):
+            ax.scatter(x[ran & ~reached], y[ran & ~reached], facecolors="none", edgecolors=colours[ran & ~reached],
+                       marker="^", s=50, zorder=3)
+            handles.append(Line2D([], [], color="0.3", marker="^", ls="", mfc="none",
+                                  label="limit not reached: drawn at the distance run"))
+        for xi, yi, n, ok in zip(x, y, order, ran):
+            if ok and np.isfinite(yi):
+                ax.annotate(f"{int(n)}", (xi, yi), textcoords="offset points", xytext=(0, 7), ha="center",
+                            fontsize="small")
+        ax.set(xlabel=field_label(fields[0]), ylabel=ylabel)
+        if not flat_if_round_off(ax, y[ran]):
+            if log:
+                ax.set_yscale("log")
+            else:
+                top = float(np.nanmax(y[ran])) if np.any(ran) else 1.0
+                ax.set_ylim(0, 1.12 * top)
+        title = "numbers on the points: dominant order at the end"
     else:
-        x, y = ds[fields[0]].values, ds[fields[1]].values
-        X, Y = np.meshgrid(x, y, indexing="ij")
+        x, yy = ds[fields[0]].values, ds[fields[1]].values
+        X, Y = np.meshgrid(x, yy, indexing="ij")
         ax.scatter(X.ravel(), Y.ravel(), c=colours.ravel(), s=120, marker="s")
-        for xi, yi, m in zip(X.ravel(), Y.ravel(), ds.maxima.values.ravel()):
-            if np.isfinite(m):
-                ax.annotate(f"{int(m)}", (xi, yi), ha="center", va="center", fontsize="x-small", color="w")
-        ax.set(xlabel=fields[0], ylabel=fields[1])
+        for xi, yi, n, ok in zip(X.ravel(), Y.ravel(), order.ravel(), ran.ravel()):
+            if ok:
+                ax.annotate(f"{int(n)}", (xi, yi), ha="center", va="center", fontsize="x-small", color="w")
+        ax.set(xlabel=field_label(fields[0]), ylabel=field_label(fields[1]))
+        title = "regime; numbers: dominant order at the end"
+    if ax.get_yscale() == "log" or "limit_distance" in ds:  # plain ticks: 2.5, 150,000; never 2x10^0
+        plain = lambda v, _: f"{v:,.0f}" if abs(v) >= 1000 else f"{v:g}"  # noqa: E731
+        ax.yaxis.set_major_formatter(plain)
+        ax.yaxis.set_minor_formatter(lambda v, _: plain(v, _) if f"{v:.0e}"[0] in "25" else "")
     present = [r for r in REGIME_COLOURS if r in set(map(str, regimes.ravel()))]
-    ax.legend(handles=[Patch(color=REGIME_COLOURS[r], label=r) for r in present], fontsize="small")
-    ax.set_title("regime over the sweep")
+    ax.legend(handles=[Patch(color=REGIME_COLOURS[r], label=r) for r in present] + handles, fontsize="small")
+    ax.set_title(f"{ds.attrs.get('base_scenario_name', '') or 'sweep'} sweep; {title}", fontsize="medium")
     return fig
 
 

@@ -205,7 +205,7 @@ def summary(ds: xr.Dataset):
         if entry["round_at_start"]:
             why["out_of_round_growth_factor"] = ROUND_START
         if life > 0 and entry["leading_order"] > 0:
-            entry["leading_growth_per_10000_km"], note = _order_growth(d, entry["leading_order"], life)
+            entry["leading_growth_per_10000_km"], note = order_growth(d, entry["leading_order"], life)
             if note:
                 why["leading_growth_per_10000_km"] = note
         polygon, notes = _polygon(d, entry, life)
@@ -261,7 +261,7 @@ def _short(x):
     return f"{x:g}".replace("e-0", "e-").replace("e+0", "e")
 
 
-def _order_growth(d, n, life):
+def order_growth(d, n, life):
     """``(growth per 10 000 km of order n, note)``; the growth is NaN where :func:`growth_note`
     gives a reason, which is the note."""
     note = growth_note(d, n)
@@ -286,7 +286,7 @@ def _polygon(d, entry, life):
         circumference = 2 * np.pi * float(d.nominal_radius)
         out.update(wavelength_mm=circumference / n / MM, passing_frequency_hz=n * float(d.speed) / circumference)
         if life > 0:
-            out["dominant_growth_per_10000_km"], note = _order_growth(d, n, life)
+            out["dominant_growth_per_10000_km"], note = order_growth(d, n, life)
             if note:
                 why["dominant_growth_per_10000_km"] = note
     if "peak_to_peak_limit" in d:

@@ -25,12 +25,20 @@ from railwear.units import GPA, KN, m_s_to_kmh
 POINT_SCALARS = {
     "dominant_order": ("1", "order of the largest harmonic at the end"),
     "maxima": ("1", "radius maxima round the wheel at the end"),
+    "limit_distance": ("km", "distance to the out-of-roundness limit (peak to peak)"),
+    "distance_run": ("km", "distance the run went"),
+    "dominant_growth_per_10000_km": ("percent", "growth of the dominant order per 10 000 km"),
     "max_removed_depth": ("m", "largest radius lost (most worn spot)"),
     "peak_to_peak": ("m", "peak-to-peak deviation at the end"),
     "peak_to_peak_initial": ("m", "peak-to-peak deviation at the start"),
     "stop_time": ("1", "normed time at which the run stopped"),
     "spectral_tail": ("1", "top quarter of the kept orders over the largest amplitude (resolution)"),
 }
+INTEGERS = ("dominant_order", "maxima")  # stored as integers; FAILED where the point did not run
+OPTIONAL = ("limit_distance", "distance_run", "dominant_growth_per_10000_km")  # where the runs give them
+FAILED = -1
+NOT_REACHED = "the out-of-roundness limit was not reached within the run (see distance_run)"
+FAILED_POINT = "the point failed (see error)"
 
 
 @dataclass(frozen=True)
@@ -174,11 +182,37 @@ def run_point(task):
 
 
 def reduce_result(ds):
-    """The part of a run a sweep keeps: final deviation, spectrum, regime and scalars."""
-    keep = ["amplitude", "regime", *POINT_SCALARS]
-    out = ds[[k for k in keep if k in ds and k != "max_removed_depth"]]
+    """The part of a run a sweep keeps: final deviation, spectrum, regime and scalars, with the
+    answers in the planner's units: the distance run and to the out-of-roundness limit (km; NaN
+    where the run did not reach it) and the dominant order's growth per 10 000 km (percent; NaN
+    where it has none worth stating, :func:`railwear.results.growth_note`)."""
+    from railwear import results
+    from railwear.longterm.spectra import UNDEFINED
+
+    keep = ["amplitude", "regime", "peak_to_peak_limit", *POINT_SCALARS]
+    derived = ("max_removed_depth", "limit_distance", "distance_run", "dominant_growth_per_10000_km")
+    out = ds[[k for k in keep if k in ds and k not in derived]]
     out["max_removed_depth"] = ds.removed_depth.isel(time=-1, drop=True).assign_attrs(
         units="m", long_name=POINT_SCALARS["max_removed_depth"][1])
+    life = float(ds.attrs.get("life_distance_km", 0.0))
+    if life > 0 and "stop_time" in ds:
+        run = (ds.stop_time * life).assign_attrs(units="km", long_name=POINT_SCALARS["distance_run"][1])
+        out["distance_run"] = run
+        if "peak_to_peak_limit" in ds:
+            reached = ds.peak_to_peak >= ds.peak_to_peak_limit * (1 - 1e-9)
+            out["limit_distance"] = run.where(reached).assign_attrs(
+                units="km", long_name=POINT_SCALARS["limit_distance"][1],
+                **({} if bool(reached.all()) else {UNDEFINED: NOT_REACHED}))
+        growth, notes = [], []
+        for _, d in results._runs(ds):
+            value, note = (float("nan"), results.ROUND_WHEEL) if results.is_round(float(d.peak_to_peak)) else \
+                results.order_growth(d, int(d.dominant_order), life)
+            growth.append(100.0 * value)
+            notes.append(note)
+        dims = ds.dominant_order.dims
+        out["dominant_growth_per_10000_km"] = (dims, np.reshape(growth, ds.dominant_order.shape), {
+            "units": "percent", "long_name": POINT_SCALARS["dominant_growth_per_10000_km"][1],
+            **({UNDEFINED: "; ".join(dict.fromkeys(n for n in notes if n))} if any(notes) else {})})
     out["u_final"] = (ds.u.isel(time=-1, drop=True) - ds.u.isel(time=-1, drop=True).mean("angle")).assign_attrs(
         units="m", long_name="radius deviation less its mean at the end")
     out = out.drop_vars([c for c in ("distance", "time") if c in out.coords])
@@ -387,7 +421,7 @@ def run_sweep(base: Scenario, varies, store, samples=None, seed=0, executor=None
             if own:
                 executor.close()
     combined = with_speeds(combine(coords, keys, done, errors, samples is not None), base, coords, samples is not None)
-    combined.attrs.update(base_scenario=to_toml(base), base_scenario_hash=scenario_hash(base),
+    combined.attrs.update(base_scenario=to_toml(base), base_scenario_hash=scenario_hash(base), base_scenario_name=base.name,
                           design="latin hypercube" if samples else "grid", seed=seed)
     results.write_netcdf(combined, store / "sweep.nc")
     return combined
@@ -415,15 +449,29 @@ def with_speeds(ds, base, coords, random_design):
 
 def combine(coords, keys, done, errors, random_design):
     """One Dataset over the sweep dimensions (grid) or ``sample`` (random design)."""
+    from railwear.longterm.spectra import UNDEFINED
+
     fields = list(coords)
     shape = (len(keys),) if random_design else tuple(len(v) for v in coords.values())
     dims = ("sample",) if random_design else tuple(fields)
     some = next(iter(done.values()), None)
     data = {}
     for name, (units, long_name) in POINT_SCALARS.items():
-        data[name] = (dims, np.array([float(done[k][name]) if k in done and name in done[k] else np.nan
-                                      for k in keys]).reshape(shape),
-                      {"units": units, "long_name": long_name})
+        attrs = {"units": units, "long_name": long_name}
+        if name in INTEGERS:  # counts: integers, FAILED where the point did not run
+            attrs["long_name"] += f" ({FAILED}: the point failed)"
+            values = np.array([int(done[k][name]) if k in done and name in done[k] else FAILED for k in keys])
+            data[name] = (dims, values.reshape(shape).astype(np.int64), attrs)
+            continue
+        values = np.array([float(done[k][name]) if k in done and name in done[k] else np.nan for k in keys])
+        if name in OPTIONAL and not any(k in done and name in done[k] for k in keys):
+            continue  # no point has it (a run without an out-of-roundness limit has no limit_distance)
+        reasons = [done[k][name].attrs.get(UNDEFINED, "") if k in done and name in done[k] else
+                   (FAILED_POINT if k in errors else "") for k, v in zip(keys, values) if not np.isfinite(v)]
+        reasons = [r for r in dict.fromkeys("; ".join(reasons).split("; ")) if r]
+        data[name] = (dims, values.reshape(shape), {**attrs, **({UNDEFINED: "; ".join(reasons)} if reasons else {})})
+    if some is not None and "peak_to_peak_limit" in some:
+        data["peak_to_peak_limit"] = ((), float(some.peak_to_peak_limit), dict(some.peak_to_peak_limit.attrs))
     data["regime"] = (dims, np.array([str(done[k].regime.values) if k in done else "failed" for k in keys],
                                      dtype=object).reshape(shape).astype(str),
                       {"long_name": "wear regime"})
