@@ -24,8 +24,8 @@ from railwear.cli import app
 from railwear.scenario import builtin_text, load_scenario, to_toml
 
 # The base of each scenario: a few saved states of a short run on a coarse grid.
-BASES = {"onset": ("solver.points=64", "solver.n_save=11", "solver.t_end=0.05"),  # evolution equation
-         "linear-dynamics": ()}  # Fourier technique on the disk wheel and rail (64 points)
+BASES = {"onset": ("solver.points=64", "solver.n_save=101", "solver.t_end=0.05"),  # evolution equation
+         "linear-dynamics": ("solver.n_save=11",)}  # Fourier technique on the disk wheel and rail (64 points)
 TINY_AND_HUGE = (1e-300, 1e300, -1e300, -1e-300)
 
 # Seconds each on a busy two-core machine, marked slow (-m "not slow" leaves them out; 102 s in all).

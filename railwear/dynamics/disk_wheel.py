@@ -285,7 +285,10 @@ class DiskWheelModel:
         a, b, c, d = self.linearisation()
         row = self.LINEAR_OUTPUTS.index(output)
         omega = np.atleast_1d(np.asarray(angular_frequency, dtype=float))
-        out = np.array([c[row] @ np.linalg.solve(1j * w * np.eye(self.n_states) - a, b) + d[row] for w in omega])
+        # one batched solve over the frequencies (a Python loop of 4x4 solves cost 15 us each)
+        x = np.linalg.solve(1j * omega[:, None, None] * np.eye(self.n_states) - a,
+                            np.broadcast_to(b.astype(complex)[:, None], omega.shape + (b.size, 1)))
+        out = (c[row] @ x)[..., 0] + d[row]
         return out if np.ndim(angular_frequency) else out[0]
 
     def contact_force_transfer(self, angular_frequency) -> np.ndarray:
@@ -293,10 +296,10 @@ class DiskWheelModel:
         the dynamic normal force at ``angular_frequency`` [rad/s] (complex, ``exp(i w t)``)."""
         dofs, m, c, kk, f = self.vertical_matrices()
         omega = np.atleast_1d(np.asarray(angular_frequency, dtype=float))
-        out = np.empty(omega.shape, dtype=complex)
         rail = dofs.index("rail") if "rail" in dofs else None
-        for j, w in enumerate(omega):
-            z = np.linalg.solve(-w * w * m + 1j * w * c + kk, f.astype(complex))
-            relative = (z[rail] if rail is not None else 0.0) - z[0]
-            out[j] = self.contact_stiffness * (relative + 1.0)
+        w = omega[:, None, None]
+        z = np.linalg.solve(-w * w * m + 1j * w * c + kk, np.broadcast_to(f.astype(complex)[:, None],
+                                                                            omega.shape + (f.size, 1)))[..., 0]
+        relative = (z[:, rail] if rail is not None else 0.0) - z[:, 0]
+        out = self.contact_stiffness * (relative + 1.0)
         return out if np.ndim(angular_frequency) else out[0]
