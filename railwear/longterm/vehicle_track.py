@@ -34,7 +34,7 @@ from railwear.contact import contact_constants
 from railwear.dynamics import DiskWheelModel
 from railwear.errors import ScenarioError
 from railwear.longterm.fourier import Fourier, contact_filter, law_terms, stability_map
-from railwear.track import Support, Track, rail, receptance
+from railwear.track import Support, Track, rail, receptance, support_set
 
 __all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "growth_parts", "METRO",
            "HIGH_SPEED", "bay_offsets", "p2_frequency", "coupled_resonance"]
@@ -352,6 +352,7 @@ class VehicleCase:
 
 
 # Metro motor car, 14 t axle load, on ballasted track (sources in docs/vehicle_track.md).
+METRO_TRACK = "zhai-2004-no-subgrade"  # the support set of railwear/track/data/supports.toml
 METRO = VehicleCase(
     name="metro",
     diameter=0.84,
@@ -361,12 +362,8 @@ METRO = VehicleCase(
     sprung_mass=3420.0 / 4,  # motor bogie frame per wheel
     primary_stiffness=1.7e6,  # per axle box
     primary_damping=10e3,  # assumption: rubber primary, no vertical damper
-    track=Track(
-        rail("60E1", loss_factor=0.02),
-        Support(pad_stiffness=65e6, pad_damping=75e3, sleeper_mass=125.5, ballast_stiffness=137.75e6,
-                ballast_damping=58.8e3),
-        sleeper_spacing=0.6,
-    ),
+    track=Track(rail("60E1", loss_factor=0.02), support_set(METRO_TRACK).support,
+                sleeper_spacing=support_set(METRO_TRACK).sleeper_spacing),
     traction_coefficient=0.05,  # assumption: a typical mean traction demand T / (W R0)
     band_width=0.025,  # assumption: the lateral band the wear spreads over on straight track
     sources="vehicle: Math. Probl. Eng. 2020, 1584624, Table 6; track: Zhai, Wang & Lin, JSV 270 (2004) 673",

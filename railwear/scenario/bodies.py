@@ -12,6 +12,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from railwear.errors import ScenarioError
+from railwear.longterm.vehicle_track import METRO
 from railwear.scenario import build
 from railwear.scenario.schema import (BodySection, Damping, Mass, PathText, Stiffness, body_section, refuse)
 from railwear.units import GPA, KN, MM, MN, UM
@@ -104,10 +105,10 @@ class VehicleTrackSection(RollingWheel):
     metro motor car of docs/vehicle_track.md (Math. Probl. Eng. 2020, 1584624, Table 6)."""
 
     kind: Literal["vehicle_track"] = "vehicle_track"
-    wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = 60.0
-    sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = 855.0
-    primary_stiffness_MN_m: Annotated[float, Field(ge=0, le=1e3)] = 1.7
-    primary_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 10.0
+    wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = METRO.wheel_inertia
+    sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = METRO.sprung_mass
+    primary_stiffness_MN_m: Annotated[float, Field(ge=0, le=1e3)] = METRO.primary_stiffness / MN
+    primary_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = METRO.primary_damping / KN
     wheel_mode_frequencies_hz: Annotated[list[Annotated[float, Field(ge=1, le=1e4)]], Field(max_length=100)] = []
     wheel_mode_masses_kg: Annotated[list[Annotated[float, Field(ge=1, le=1e5)]], Field(max_length=100)] = []
     wheel_mode_damping_ratios: Annotated[list[Annotated[float, Field(ge=0, le=1)]], Field(max_length=100)] = []

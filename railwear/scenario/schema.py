@@ -14,6 +14,7 @@ from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, SerializeAsA
 from pydantic_core import PydanticCustomError
 
 from railwear.errors import ScenarioLayoutWarning
+from railwear.track import support_set
 from railwear.units import GPA, KN, MN, UG, kmh_to_m_s
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -559,6 +560,9 @@ def track_field(key):
     return key + suffix, dict(_TRACK_UNITS).get(suffix, 1.0)
 
 
+_TRACK = support_set("zhai-2004-no-subgrade").values  # [track]'s default support (SI), shipped as data
+
+
 class TrackSection(_Section):
     """``[track]``: one rail (``rail`` a shipped section, ``beam`` its theory, ``rail_loss_factor``)
     on its support per rail seat at ``sleeper_spacing_m`` (``support = "continuous"`` spreads it
@@ -589,14 +593,14 @@ class TrackSection(_Section):
     rail_loss_factor: Annotated[float, Field(ge=0, le=1)] = 0.02
     support: Literal["discrete", "continuous"] = "discrete"
     sleeper_spacing_m: Annotated[float, Field(ge=0.3, le=1.5)] = 0.6
-    pad_stiffness_MN_m: Annotated[float, Field(ge=1, le=1e4)] = 65.0  # soft resilient pads to stiff EVA
-    pad_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 75.0
+    pad_stiffness_MN_m: Annotated[float, Field(ge=1, le=1e4)] = _TRACK["pad_stiffness"] / 1e6  # soft pads to stiff EVA
+    pad_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = _TRACK["pad_damping"] / 1e3
     pad_loss_factor: Annotated[float, Field(ge=0, le=2)] = 0.0
-    sleeper_mass_kg: Annotated[float, Field(ge=0, le=2000)] = 125.5  # half a sleeper
+    sleeper_mass_kg: Annotated[float, Field(ge=0, le=2000)] = _TRACK["sleeper_mass"]  # half a sleeper
     base: Literal["ballast", "ballast_subgrade", "slab", "rigid"] = "ballast"
     preset: Name | None = None
-    ballast_stiffness_MN_m: Annotated[float, Field(ge=1, le=1e5)] = 137.75
-    ballast_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 58.8
+    ballast_stiffness_MN_m: Annotated[float, Field(ge=1, le=1e5)] = _TRACK["ballast_stiffness"] / 1e6
+    ballast_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = _TRACK["ballast_damping"] / 1e3
     ballast_loss_factor: Annotated[float, Field(ge=0, le=2)] = 0.0
     ballast_mass_kg: Annotated[float, Field(ge=0, le=1e4)] | None = None  # under one rail seat
     subgrade_stiffness_MN_m: Annotated[float, Field(ge=1, le=1e5)] | None = None
