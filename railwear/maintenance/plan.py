@@ -1,0 +1,245 @@
+"""``railwear plan``: a wheel's life under maintenance policies, one wheel or a Monte Carlo over the
+service scatter, at a band of growth multipliers (layer 4).
+
+Wheel 0 runs the scenario's own conditions; wheels 1..N draw speed, load and friction from its
+``[service]`` as the forecast does (:func:`railwear.forecast.draw_conditions`, seeded). Each wheel
+runs each policy at each growth multiplier ``g`` from new (the scenario's diameter and
+``[initial]`` wheel) to scrap (:meth:`~railwear.maintenance.turning.Policy.life`). No published
+field growth rate of a polygon exists, so the plan states its answer over the band of ``g``.
+Per life: the turnings (distance, trigger, peak to peak and dominant order before the cut, cut
+depth, diameters, the order selected after), the distance to scrap ``S`` (km), the distance per
+millimetre of diameter ``S / (D_0 - D_end)`` and the turnings per 10⁶ km ``10⁶ k / S``; over
+the drawn wheels the median of ``S`` with its 5-95 % band.
+"""
+
+import numpy as np
+import xarray as xr
+
+from railwear.errors import OptionError, ScenarioError
+from railwear.longterm.spectra import UNDEFINED
+from railwear.maintenance.policy import load_policy
+from railwear.maintenance.turning import RateTable, WheelState
+from railwear.scenario import build, load_scenario, scenario_hash, to_toml
+from railwear.units import KM, MM, m_s_to_kmh
+
+GROWTH = (0.5, 1.0, 2.0)  # the default band of growth multipliers on the polygon rates
+GROWTH_RANGE = (0.0, 100.0)  # a multiplier outside it is a typing error (0 allowed: no growth)
+HORIZON_KM = 1e7  # a life not scrapped by then is reported as not scrapped
+RESOLUTION_KM = 500.0  # scan step for the triggers (located by bisection within it)
+QUANTILES = (0.05, 0.5, 0.95)
+MAX_SAMPLES = 1000
+NOT_SCRAPPED = "the wheel is not scrapped within the horizon"
+
+
+class WheelRates:
+    """The Fourier technique of one wheel's conditions (``scenario``) at any diameter, built once
+    per diameter (:meth:`at`, a :class:`~railwear.maintenance.turning.RateTable` of orders
+    1 .. ``highest``)."""
+
+    def __init__(self, scenario, highest):
+        self.scenario, self.highest, self.built = scenario, highest, {}
+
+    def at(self, diameter, growth=1.0):
+        if diameter not in self.built:
+            wheel = self.scenario.wheel.model_copy(update={"radius_m": diameter / 2})
+            self.built[diameter] = RateTable.of(build.fourier_technique(self.scenario.model_copy(update={"wheel": wheel})),
+                                                self.highest)
+        table = self.built[diameter]
+        return table if growth == 1.0 else table.scaled(growth)
+
+
+def re_profiled(scenario):
+    """The scenario's ``[initial]`` wheel about its mean (m on the grid): a new or re-profiled
+    wheel's roughness, where a life starts and what a turning adds with ``add_initial``."""
+    base = build.initial_state(scenario)
+    return base - np.mean(base)
+
+
+def wheel_conditions(scenario, samples, seed):
+    """``(scenarios, speed_kmh, load_kN, friction)``: wheel 0 the scenario's own, then ``samples``
+    drawn from its ``[service]`` with ``seed``."""
+    from railwear.forecast import draw_conditions
+
+    op = scenario.operation
+    speed = [m_s_to_kmh(float(op.speeds if op.duty() is not None else build.one_speed(scenario, "; plan one speed")))]
+    load, friction = [scenario.wheel.static_load_kN], [scenario.contact.friction_coefficient]
+    scenarios = [scenario]
+    if samples:
+        if op.duty() is not None:
+            raise ScenarioError("operation.cycle: a Monte Carlo over the service scatter draws one speed per wheel; "
+                                "plan a duty cycle as one wheel (--samples 0)")
+        service = scenario.service.model_copy(update={"samples": samples, "seed": scenario.service.seed if seed is None else seed})
+        v, w, mu = draw_conditions(scenario.model_copy(update={"service": service}))
+        for vi, wi, mi in zip(v, w, mu):
+            scenarios.append(scenario.model_copy(update={
+                "wheel": scenario.wheel.model_copy(update={"static_load_kN": float(wi)}),
+                "contact": scenario.contact.model_copy(update={"friction_coefficient": float(mi)}),
+                "operation": op.model_copy(update={"speed_kmh": float(vi), "speed_m_s": None})}))
+        speed, load, friction = speed + list(v), load + list(w), friction + list(mu)
+    return scenarios, np.array(speed), np.array(load), np.array(friction)
+
+
+def _checked_growth(growth):
+    values = np.atleast_1d(np.asarray(growth, float))
+    if values.size == 0 or values.size > 20 or not np.all(np.isfinite(values)) or np.any(values < GROWTH_RANGE[0]) or (
+            np.any(values > GROWTH_RANGE[1])):
+        raise OptionError(f"growth: 1 to 20 multipliers in [{GROWTH_RANGE[0]:g}, {GROWTH_RANGE[1]:g}], got "
+                          f"{', '.join(f'{g:g}' for g in values) or 'none'}")
+    if np.unique(values).size != values.size:
+        raise OptionError("growth: a multiplier is given twice")
+    return tuple(float(g) for g in np.sort(values))
+
+
+def _policies(policies, base, diameter):
+    """The policy files and their SI policies, checked against the wheel (names the field)."""
+    files = [load_policy(p) for p in ([policies] if isinstance(policies, str) else policies)]
+    if not files:
+        raise OptionError("policy: give at least one policy")
+    names = [f.name for f in files]
+    if len(set(names)) != len(names):
+        raise OptionError(f"policy: two policies are named {next(n for n in names if names.count(n) > 1)!r}")
+    built = []
+    for f in files:
+        if f.wheel.last_turning_diameter_mm * MM >= diameter:
+            raise ScenarioError(f"{f.name}: wheel.last_turning_diameter_mm: {f.wheel.last_turning_diameter_mm:g} mm is not "
+                                f"below the scenario's new wheel ({diameter / MM:g} mm, wheel.radius_m)")
+        policy = f.build(base)
+        policy.turning.residual.check(base.size)
+        for limit in policy.triggers.limits:
+            try:
+                limit.check(base, diameter)
+            except ScenarioError as e:
+                raise ScenarioError(f"{f.name}: trigger: {str(e).removeprefix('limit: ')}") from None
+        built.append(policy)
+    return files, built
+
+
+def plan(scenario=None, policies=("metro-interval",), samples=0, seed=None, growth=GROWTH, horizon_km=HORIZON_KM,
+         resolution_km=RESOLUTION_KM, progress=None):
+    """Each policy's life of the scenario's wheel at each growth multiplier: wheel 0 at the
+    scenario's conditions, and ``samples`` wheels drawn from its ``[service]`` (``seed``, default
+    ``service.seed``). ``scenario`` a :class:`~railwear.scenario.Scenario`, file or built-in name
+    whose body gives a linear model (the Fourier technique); ``policies`` files or built-in names
+    (:func:`~railwear.maintenance.policy.load_policy`). Returns an ``xarray.Dataset``
+    (:func:`dataset`)."""
+    sc = load_scenario(scenario)
+    if not (isinstance(samples, (int, np.integer)) and 0 <= samples <= MAX_SAMPLES):
+        raise OptionError(f"samples: a whole number in [0, {MAX_SAMPLES}], got {samples!r}")
+    for name, value, low, high in (("horizon_km", horizon_km, 1e3, 1e8), ("resolution_km", resolution_km, 1.0, 1e5)):
+        if not (np.isfinite(value) and low <= value <= high):
+            raise OptionError(f"{name}: must be in [{low:g}, {high:g}] km, got {value!r}")
+    growth = _checked_growth(growth)
+    base = re_profiled(sc)
+    diameter = 2 * sc.wheel.radius_m
+    files, built = _policies(policies, base, diameter)
+    scenarios, speed, load, friction = wheel_conditions(sc, samples, seed)
+    wheels = [WheelRates(s, base.size // 2) for s in scenarios]
+    wheels[0].at(diameter)  # a scenario without a linear model is refused here, before any life
+    lives, total, done = {}, len(wheels) * len(built) * len(growth), 0
+    for w, wheel in enumerate(wheels):
+        for p, policy in enumerate(built):
+            for g, multiplier in enumerate(growth):
+                lives[p, g, w] = policy.life(WheelState(base, diameter), lambda d, m=multiplier, r=wheel: r.at(d, m),
+                                             horizon_km * KM, resolution_km * KM)
+                done += 1
+                if progress is not None:
+                    progress(done / total)
+    return dataset(sc, files, built, growth, lives, speed, load, friction,
+                   {"samples": samples, "seed": sc.service.seed if seed is None else seed, "horizon_km": horizon_km,
+                    "resolution_km": resolution_km})
+
+
+def _life_values(life, diameter):
+    """Per life: distance to scrap (km, inf if not scrapped), distance reached (km), turnings,
+    final mean diameter (m), km per mm of diameter, turnings per 10⁶ km."""
+    reached = life.end.distance / KM
+    final = life.end.mean_diameter
+    used = (diameter - final) / MM
+    k = len(life.turnings)
+    return (reached if life.scrapped else np.inf, reached, k, final, reached / used if used > 0 else np.nan,
+            k / reached * 1e6 if reached > 0 else np.nan)
+
+
+def dataset(scenario, files, policies, growth, lives, speed, load, friction, options):
+    """The plan as an ``xarray.Dataset`` over ``policy`` × ``growth`` × ``wheel`` (× ``turning``;
+    the history of wheel 0 over ``point``)."""
+    from railwear import __version__
+    from railwear.forecast import _speeds
+
+    diameter = 2 * scenario.wheel.radius_m
+    n_p, n_g, n_w = len(policies), len(growth), len(speed)
+    shape = (n_p, n_g, n_w)
+    k_max = max([len(life.turnings) for life in lives.values()] + [1])
+    per_life = {name: np.full(shape, np.nan) for name in ("scrap", "reached", "turnings", "final", "per_mm", "rate")}
+    reasons, selected_new = np.empty(shape, object), np.zeros(shape, int)
+    turn = {name: np.full(shape + (k_max,), np.nan) for name in ("distance", "cut", "before", "after", "ptp")}
+    turn_int = {name: np.zeros(shape + (k_max,), int) for name in ("dominant", "selected")}
+    triggers = np.full(shape + (k_max,), "", object)
+    points = max(life.history[0].size for (p, g, w), life in lives.items() if w == 0)
+    history = {name: np.full((n_p, n_g, points), np.nan) for name in ("distance", "ptp", "diameter")}
+    for (p, g, w), life in lives.items():
+        for name, value in zip(per_life, _life_values(life, diameter)):
+            per_life[name][p, g, w] = value
+        reasons[p, g, w], selected_new[p, g, w] = life.reason, life.selected_order
+        for k, r in enumerate(life.turnings):
+            for name, value in (("distance", r.distance / KM), ("cut", r.cut), ("before", r.before), ("after", r.after),
+                                ("ptp", r.peak_to_peak)):
+                turn[name][p, g, w, k] = value
+            turn_int["dominant"][p, g, w, k], turn_int["selected"][p, g, w, k] = r.dominant_order, r.selected_order
+            triggers[p, g, w, k] = r.trigger
+        if w == 0:
+            n = life.history[0].size
+            history["distance"][p, g, :n] = life.history[0] / KM
+            history["ptp"][p, g, :n], history["diameter"][p, g, :n] = life.history[1], life.history[2]
+    scrap = per_life["scrap"]
+    dims, tdims = ("policy", "growth", "wheel"), ("policy", "growth", "wheel", "turning")
+    variables = {
+        "distance_to_scrap": (dims, scrap, {"units": "km", "long_name": "distance run from new to scrap",
+                                            **({UNDEFINED: NOT_SCRAPPED} if np.isinf(scrap).any() else {})}),
+        "life_distance": (dims, per_life["reached"], {"units": "km", "long_name": "distance run from new to the end of the life"}),
+        "turnings": (dims, per_life["turnings"].astype(int), {"units": "1", "long_name": "turnings in the life"}),
+        "final_diameter": (dims, per_life["final"], {"units": "m", "long_name": "mean diameter at the end of the life"}),
+        "distance_per_mm": (dims, per_life["per_mm"], {"units": "km mm-1", "long_name": "distance run per mm of diameter used"}),
+        "turnings_per_million_km": (dims, per_life["rate"], {"units": "1", "long_name": "turnings per 10^6 km"}),
+        "end_reason": (dims, reasons.astype(str), {"long_name": "why the life ended"}),
+        "selected_order_new": (dims, selected_new, {"units": "1", "long_name": "fastest-growing order of the new wheel"}),
+        "turning_distance": (tdims, turn["distance"], {"units": "km", "long_name": "distance at the turning (NaN: none)"}),
+        "cut_depth": (tdims, turn["cut"], {"units": "m", "long_name": "cut depth on the radius"}),
+        "diameter_before": (tdims, turn["before"], {"units": "m", "long_name": "mean diameter before the turning"}),
+        "diameter_after": (tdims, turn["after"], {"units": "m", "long_name": "diameter after the turning"}),
+        "peak_to_peak_at_turning": (tdims, turn["ptp"], {"units": "m", "long_name": "peak-to-peak radius deviation before the cut"}),
+        "dominant_order": (tdims, turn_int["dominant"], {"units": "1", "long_name": "dominant order before the cut (0: no turning)"}),
+        "selected_order": (tdims, turn_int["selected"], {"units": "1", "long_name": "fastest-growing order at the new diameter (0: no turning)"}),
+        "trigger": (tdims, triggers.astype(str), {"long_name": "what asked for the turning"}),
+        **{name: (("wheel",), v.values, dict(v.attrs)) for name, v in _speeds(speed).items()},
+        "static_load": (("wheel",), load, {"units": "kN", "long_name": "static wheel load"}),
+        "friction_coefficient": (("wheel",), friction, {"units": "1", "long_name": "friction coefficient"}),
+        "peak_to_peak_limit": (("policy",), np.array([next((x.peak_to_peak for x in q.triggers.limits if x.kind == "peak_to_peak"),
+                                                          np.nan) for q in policies]),
+                               {"units": "m", "long_name": "peak-to-peak trigger of the policy (NaN: none)"}),
+        "interval": (("policy",), np.array([np.nan if q.triggers.interval is None else q.triggers.interval / KM for q in policies]),
+                     {"units": "km", "long_name": "turning interval of the policy (NaN: none)"}),
+        "last_turning_diameter": (("policy",), np.array([q.last_diameter for q in policies]),
+                                  {"units": "m", "long_name": "last-turning diameter: scrapped there"}),
+        "history_distance": (("policy", "growth", "point"), history["distance"], {"units": "km", "long_name": "distance run, wheel 0"}),
+        "history_peak_to_peak": (("policy", "growth", "point"), history["ptp"], {"units": "m", "long_name": "peak-to-peak radius deviation, wheel 0"}),
+        "history_diameter": (("policy", "growth", "point"), history["diameter"], {"units": "m", "long_name": "mean diameter, wheel 0"}),
+    }
+    if n_w > 1:
+        with np.errstate(invalid="ignore"):
+            q = np.quantile(scrap[:, :, 1:], QUANTILES, axis=-1, method="inverted_cdf")
+        for name, values in zip(("p05", "p50", "p95"), q):
+            variables[f"distance_to_scrap_{name}"] = (("policy", "growth"), values, {
+                "units": "km", "long_name": f"{name[1:]} % quantile of the distance to scrap over the drawn wheels",
+                **({UNDEFINED: NOT_SCRAPPED} if np.isinf(values).any() else {})})
+    attrs = {"scenario": to_toml(scenario), "scenario_hash": scenario_hash(scenario), "scenario_name": scenario.name,
+             "new_diameter_m": diameter, "railwear_version": __version__,
+             "growth_band": (f"growth multipliers {', '.join(f'{g:g}' for g in growth)} on the polygon rates of the Fourier "
+                             "technique: no field growth rate of a polygon is published"),
+             **{f"policy_{i}": f.model_dump_json() for i, f in enumerate(files)},
+             **{k: v for k, v in options.items() if v is not None}}
+    return xr.Dataset(variables, coords={
+        "policy": ("policy", [p.name for p in policies], {"long_name": "maintenance policy"}),
+        "growth": ("growth", np.array(growth), {"units": "1", "long_name": "growth multiplier on the polygon rates"}),
+        "wheel": ("wheel", np.arange(n_w), {"long_name": "wheel 0: the scenario's conditions; 1..N drawn from [service]"}),
+        "turning": ("turning", np.arange(1, k_max + 1), {"long_name": "turning number"})}, attrs=attrs)
