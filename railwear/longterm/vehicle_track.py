@@ -34,10 +34,10 @@ from railwear.contact import contact_constants
 from railwear.dynamics import DiskWheelModel
 from railwear.errors import ScenarioError
 from railwear.longterm.fourier import Fourier, contact_filter, law_terms, stability_map
-from railwear.track import Support, Track, rail, receptance, support_set
+from railwear.track import Support, Track, load_offset, rail, receptance, support_set
 
 __all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "growth_parts", "METRO",
-           "HIGH_SPEED", "bay_offsets", "p2_frequency", "coupled_resonance"]
+           "HIGH_SPEED", "WheelsOnRail", "bay_offsets", "p2_frequency", "coupled_resonance"]
 
 GRAVITY = 9.81  # m/s²
 _RAIL_STATE = 6  # z_r in the disk wheel's state vector
@@ -388,3 +388,77 @@ HIGH_SPEED = VehicleCase(
     wheel_modes=((580.0, 500.0, 0.01),),  # assumption: a bending mode where order 20 passes at 300 km/h
     sources="wheelset and primary suspension: Goicolea 2014 (REFERENCES.md); mode, loads, frame: assumptions",
 )
+
+
+@dataclass(frozen=True, eq=False)
+class WheelsOnRail:
+    """Identical wheels (``model.wheel``, each with ``model.wheel_modes``) on one rail of
+    ``model.track``, at ``positions`` (m along the rail from the first wheel: ``(0, 2.5)`` a
+    bogie of wheelbase 2.5 m), coupled through the rail's transfer receptance
+    ``A_jk(ω) = α(ω, x_j ← x_k)``.
+
+    At each wheel the wheel-on-rigid-rail outputs are ``y_j = G_u ū_j + G_r w_j`` (``G_u``,
+    ``G_r`` of :meth:`VehicleTrackModel.wheel_terms`) and the rail under it moves by
+    ``w = -A N``, so ``N = (I + G_r,N A)^-1 G_u,N ū`` and every output is a matrix over the
+    wheels, ``Y = G_u I - G_r A (I + G_r,N A)^-1 G_u,N`` (the wheel's own flexible modes add to
+    ``A_jj``). Averaged over the first wheel's offset in the bay (all ``n`` offsets, unfolded:
+    a pair is not its own mirror image). A harmonic of order ``n`` on every wheel then evolves
+    as ``dû/dt = -c F_n² H_D(nΩ) û`` (:class:`~railwear.longterm.fourier.Fourier`): the growth
+    rates are the eigenvalues of that matrix, each with the combination of the wheels' polygons
+    (amplitude and phase) that grows at it. One wheel is :class:`VehicleTrackModel` itself."""
+
+    model: VehicleTrackModel
+    positions: tuple = (0.0,)
+
+    def __post_init__(self):
+        x = np.asarray(self.positions, float)
+        if x.ndim != 1 or x.size < 1 or not np.all(np.isfinite(x)) or x[0] != 0.0 or np.any(np.diff(x) <= 0):
+            raise ScenarioError("positions: the wheels' distances along the rail from the first (m): 0, then increasing")
+        n = self.model.positions
+        offsets = ([j * self.model.track.sleeper_spacing / n for j in range(n)]
+                   if isinstance(n, (int, np.integer)) and self.model.track.discrete else bay_offsets(self.model.track, n)[0])
+        object.__setattr__(self, "_x", x)
+        object.__setattr__(self, "_offsets", offsets)
+
+    def rail_matrix(self, angular_frequency) -> np.ndarray:
+        """``A_jk`` [m/N] at every offset of the first wheel, ``(offsets, len(ω), wheels, wheels)``:
+        the rail's displacement under wheel ``j`` per unit force at wheel ``k``."""
+        omega = np.atleast_1d(np.asarray(angular_frequency, float))
+        f, track = omega / (2 * np.pi), self.model.track
+        out = np.empty((len(self._offsets), omega.size, self._x.size, self._x.size), complex)
+        for i, d in enumerate(self._offsets):
+            base = load_offset(track, d) if isinstance(d, str) else float(d)
+            at = base + self._x
+            for k, load in enumerate(at):
+                out[i, :, :, k] = receptance(track, f, float(load), response=at)
+        return out
+
+    def transfer_matrix(self, angular_frequency, output="frictional_power") -> np.ndarray:
+        """Bay-averaged ``Y(ω)`` from the wheels' ``ū`` to their ``output`` (one of
+        ``LINEAR_OUTPUTS``), ``(len(ω), wheels, wheels)``, complex."""
+        m = self.model
+        if output not in m.LINEAR_OUTPUTS:
+            raise ScenarioError(f"output: must be one of {m.LINEAR_OUTPUTS}, got {output!r}")
+        row, normal = m.LINEAR_OUTPUTS.index(output), m.LINEAR_OUTPUTS.index("normal_force")
+        gu, gr = m.wheel_terms(angular_frequency)
+        A = self.rail_matrix(angular_frequency)
+        eye = np.eye(self._x.size)
+        A = A + m.wheel_mode_receptance(angular_frequency)[None, :, None, None] * eye
+        N = np.linalg.solve(eye + gr[:, normal, None, None] * A, gu[:, normal, None, None] * eye)
+        Y = gu[:, row, None, None] * eye - gr[:, row, None, None] * (A @ N)
+        return np.mean(Y, axis=0)
+
+    def rates(self, orders, law, band_width):
+        """``(λ, modes)``: for each polygon order the growth rates ``λ`` (1/s, complex,
+        ``(orders, wheels)``, fastest first) and the combinations ``modes`` (``(orders, wheels,
+        wheels)``, column ``i`` the wheels' complex amplitudes growing at ``λ[:, i]``, unit norm)
+        of the wear law's driver (:func:`~railwear.longterm.fourier.law_terms`)."""
+        m = self.model
+        n = np.atleast_1d(np.asarray(orders, float))
+        lin, terms = law_terms(m, law, band_width)
+        c = lin.coefficient / (2 * np.pi * m.radius * band_width)
+        omega = n * m.speed * (1 + m.steady_creepage()) / m.radius
+        H = sum(weight * self.transfer_matrix(omega, output) for output, weight in terms.items())
+        lam, vec = np.linalg.eig(-c * (contact_filter(n, m.patch_half_length / m.radius) ** 2)[:, None, None] * H)
+        order = np.argsort(-lam.real, axis=-1)
+        return np.take_along_axis(lam, order, -1), np.take_along_axis(vec, order[:, None, :], -1)
