@@ -22,7 +22,7 @@ def shape_error(u, ref):
 
 @pytest.fixture(scope="module")
 def runs(wheel_220, rough_u0):
-    return {a: Direct(DiskWheel(wheel_220, **WEAR), acceleration=a).run(rough_u0, until=1.0, depth_limit=40e-6)
+    return {a: Direct(DiskWheel(wheel_220, **WEAR), acceleration_factor=a).run(rough_u0, until=1.0, depth_limit=40e-6)
             for a in (2e4, 1e4, 5e3, 2.5e3)}
 
 
@@ -49,15 +49,15 @@ def test_agrees_with_the_stepwise_strategy(runs, wheel_220, rough_u0):
 
 def test_finer_surface_updates_converge_too(wheel_220, rough_u0):
     """Four surface updates per revolution: also first order in A, towards the same limit."""
-    fine = {a: Direct(DiskWheel(wheel_220, **WEAR, updates_per_revolution=4), acceleration=a).run(
+    fine = {a: Direct(DiskWheel(wheel_220, **WEAR, updates_per_revolution=4), acceleration_factor=a).run(
         rough_u0, until=1.0, depth_limit=20e-6) for a in (1e4, 5e3)}
-    coarse = Direct(DiskWheel(wheel_220, **WEAR), acceleration=2.5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
+    coarse = Direct(DiskWheel(wheel_220, **WEAR), acceleration_factor=2.5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
     errors = [shape_error(fine[a].u.values[-1], coarse.u.values[-1]) for a in (1e4, 5e3)]
     assert errors[0] > 1.5 * errors[1]
 
 
 def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0, runs):
-    strategy = Direct(DiskWheel(wheel_220, **WEAR), acceleration=2e4, n_save=11)
+    strategy = Direct(DiskWheel(wheel_220, **WEAR), acceleration_factor=2e4, n_save=11)
     whole = strategy.run(rough_u0, until=1.0, depth_limit=40e-6)
     saved = []
 
@@ -71,11 +71,11 @@ def test_a_killed_run_resumes_bit_for_bit(wheel_220, rough_u0, runs):
 @pytest.mark.parametrize("factor", [0.5, 0.0, -3.0, float("nan")])
 def test_an_acceleration_factor_below_one_is_an_error(wheel_220, factor):
     with pytest.raises(ScenarioError, match="acceleration factor"):
-        Direct(DiskWheel(wheel_220, **WEAR), acceleration=factor)
+        Direct(DiskWheel(wheel_220, **WEAR), acceleration_factor=factor)
 
 
 def test_stops_at_the_normed_time(wheel_220, rough_u0):
-    ds = Direct(DiskWheel(wheel_220, **WEAR), acceleration=2e4, n_save=5).run(rough_u0, until=0.01)
+    ds = Direct(DiskWheel(wheel_220, **WEAR), acceleration_factor=2e4, n_save=5).run(rough_u0, until=0.01)
     assert float(ds.time[-1]) == 0.01
     assert ds.sizes["time"] == 5
 
@@ -83,7 +83,7 @@ def test_stops_at_the_normed_time(wheel_220, rough_u0):
 def test_checkpoint_survives_an_npz_file(wheel_220, rough_u0, tmp_path):
     from railwear.longterm.base import Checkpoint
 
-    strategy = Direct(DiskWheel(wheel_220, **WEAR), acceleration=2e4, n_save=6)
+    strategy = Direct(DiskWheel(wheel_220, **WEAR), acceleration_factor=2e4, n_save=6)
     saved = []
     whole = strategy.run(rough_u0, until=1.0, depth_limit=20e-6, checkpoint=saved.append)
     np.savez(tmp_path / "cp.npz", **saved[2].plain())
@@ -100,11 +100,11 @@ def test_the_fastsim_creep_law_is_carried_through_the_surface_updates(wheel_220,
     from dataclasses import replace
 
     wheel = replace(wheel_220, creep_law="fastsim")
-    direct = Direct(DiskWheel(wheel, **WEAR), acceleration=5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
+    direct = Direct(DiskWheel(wheel, **WEAR), acceleration_factor=5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
     frozen = DiskWheel(wheel, **WEAR, service=ServiceSpeeds((wheel.speed,)), revolutions=4,
                             transient_revolutions=4, samples=2)
     step = Stepwise(frozen, 2e-6).run(rough_u0, until=1.0, depth_limit=20e-6)
     assert shape_error(step.u.values[-1], direct.u.values[-1]) < 3e-3
-    cubic = Direct(DiskWheel(wheel_220, **WEAR), acceleration=5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
+    cubic = Direct(DiskWheel(wheel_220, **WEAR), acceleration_factor=5e3).run(rough_u0, until=1.0, depth_limit=20e-6)
     # the creep law matters: the life to the depth differs from the cubic law's
     assert abs(float(direct.stop_time) / float(cubic.stop_time) - 1) > 1e-3
