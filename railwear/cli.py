@@ -15,7 +15,7 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
 
 
 _QUIET_COMMANDS = ("plot", "scenarios", "show")  # compile nothing: no numba import for them
-_compile_notice = {"installed": False, "printed": False}
+_compile_notice = {"installed": False, "printed": False, "compiled": False}
 
 
 def _print_version(value: bool):
@@ -33,8 +33,8 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
 @app.callback()
 def _announce_compiling(ctx: typer.Context, version: Annotated[bool, typer.Option(
         "--version", is_eager=True, callback=_print_version, help="print railwear's version and exit")] = False):
-    """One line on standard error when numba starts compiling, i.e. its cache is cold (the first
-    run after an install or a change): up to a minute that would otherwise look like a hang."""
+    """One line on standard error when numba compiles, i.e. its cache is cold (the first run
+    after an install or a change): up to a minute that would otherwise look like a hang."""
     import warnings
 
     warnings.showwarning = _one_line_warning  # a warning before a run (the scenario's layout) in one line too
@@ -42,34 +42,70 @@ def _announce_compiling(ctx: typer.Context, version: Annotated[bool, typer.Optio
         return
     from numba.core import event
 
+    event.register("numba:compile", compile_listener())
+    _compile_notice["installed"] = True
+
+
+NOTICE_AFTER = 0.5  # s: a compile still going after this is a cold cache's, and the notice prints
+
+
+def _failed(ev):
+    """Whether a numba end event carries an exception. ``Event.is_failed`` of numba 0.68 reads the
+    other way round (True when there is none), so the exception itself is read."""
+    details = getattr(ev, "_exc_details", None)
+    return details is not None and details[0] is not None
+
+
+def compile_listener(delay=NOTICE_AFTER, echo=None):
+    """A numba ``numba:compile`` listener for the command line. numba fires the event on every
+    miss of its in-memory table, and a miss can end at once without compiling (a kernel that asks
+    for its argument as a literal raises ``ForceLiteralArg`` and is loaded from the disk cache
+    with the literal type: on a warm cache, 2 such events of 6 ms each per run). So the notice
+    'compiling kernels (first run only)...' prints only when a compile is still going after
+    ``delay`` seconds, and ``_compile_notice['compiled']`` (what the report says) is set only by
+    a compile that finished (the event not failed). On a terminal the progress bar (or a status
+    line) names the kernel compiling and counts those done; in a log, one line per kernel that
+    took 2 s or more. ``echo`` prints a line to standard error (tests pass their own)."""
+    import threading
+    import time
+
+    from numba.core import event
+
+    say = echo or (lambda text: typer.echo(text, err=True))
+
     class Notice(event.Listener):
-        """The first compile prints the notice; then, on a terminal, the progress bar (or a status
-        line) names the kernel compiling and counts those done; in a log, one line per kernel
-        that took 2 s or more."""
+        depth, done, started, timer = 0, 0, [], None
 
-        depth, done, started = 0, 0, []
-
-        def on_start(self, ev):  # a cache miss: numba loads cached kernels without this event
-            if not _compile_notice["printed"]:
-                _compile_notice["printed"] = True
-                typer.echo("compiling kernels (first run only)...", err=True)
+        def on_start(self, ev):
             self.depth += 1
             if self.depth == 1:
-                import time
-
                 self.started = [getattr(ev.data.get("dispatcher"), "__name__", "kernel").lstrip("_"), time.monotonic()]
+                if not _compile_notice["printed"]:
+                    self.timer = threading.Timer(delay, self.announce)
+                    self.timer.daemon = True
+                    self.timer.start()
+
+        def announce(self):
+            if self.depth > 0 and not _compile_notice["printed"]:
+                _compile_notice["printed"] = True
+                say("compiling kernels (first run only)...")
                 self.show(f"compiling {self.started[0]} ({self.done} kernels done)")
 
         def on_end(self, ev):
             self.depth -= 1
             if self.depth == 0:
-                import time
-
+                if self.timer is not None:
+                    self.timer.cancel()
+                    self.timer = None
+                if _failed(ev):  # no compile: a literal asked for, or an error that is raised on
+                    return
+                _compile_notice["compiled"] = True
                 self.done += 1
                 seconds = time.monotonic() - self.started[1]
-                if not sys.stderr.isatty() and seconds >= 2:
-                    typer.echo(f"compiled {self.started[0]} in {seconds:.0f} s ({self.done} kernels done)", err=True)
-                self.show("")
+                if _compile_notice["printed"] and not sys.stderr.isatty() and seconds >= 2:
+                    say(f"compiled {self.started[0]} in {seconds:.0f} s ({self.done} kernels done)")
+                if _compile_notice["printed"]:
+                    self.show("")
 
         @staticmethod
         def show(text):
@@ -79,8 +115,7 @@ def _announce_compiling(ctx: typer.Context, version: Annotated[bool, typer.Optio
             elif sys.stderr.isatty():
                 typer.echo(f"\r\033[K{text}", err=True, nl=False)
 
-    event.register("numba:compile", Notice())
-    _compile_notice["installed"] = True
+    return Notice()
 
 
 _state = {"output": None}  # the output folder of the command running, for the log of a bug
@@ -245,7 +280,7 @@ def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None
     checkpoint.unlink(missing_ok=True)
     summary = results.write_summary(ds, output)
     paths = plots.write_figures(ds, output, fmt, dpi) if figures else []
-    report.write_report(ds, output / report.NAME, paths, warned.caught, _compile_notice["printed"])
+    report.write_report(ds, output / report.NAME, paths, warned.caught, _compile_notice["compiled"])
     typer.echo(results.summary_text(summary), nl=False)
     typer.echo(f"wrote {output / 'result.nc'}")
 
