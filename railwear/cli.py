@@ -260,12 +260,13 @@ def _run_failed(error, output):
     _fail(f"{error}{kept}", 1)
 
 
-def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None, sets=(), fmt="png", dpi=120):
+def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None, sets=(), fmt="png", dpi=120,
+                   unsets=()):
     from railwear import api, plots, report, results
 
     checkpoint = _output(output) / "checkpoint.npz"
     try:
-        sc = None if scenario is None and resume_path is not None else api.load_scenario(scenario, sets)
+        sc = None if scenario is None and resume_path is not None else api.load_scenario(scenario, sets, unsets)
         label = f"railwear {sc.name if sc else 'resume'}"
         with _Warnings() as warned, _Progress(label) as progress:
             if resume_path is None and checkpoint.exists():  # an earlier run's: only the newest resumes
@@ -291,11 +292,17 @@ Sets = Annotated[list[str], typer.Option(
          "read as TOML (180, \"x\", [1, 2], true; a bare word is text); repeat for more")]
 
 
-def _scenario(scenario, sets):
-    """The scenario (file or built-in name) with the ``--set`` fields, or None with neither."""
+Unsets = Annotated[list[str], typer.Option(
+    "--unset", metavar="FIELD",
+    help="remove a scenario field or section as if the file had not given it, so it takes its default "
+         "(track.ballast_stiffness_MN_m; track); applied before --set; repeat for more")]
+
+
+def _scenario(scenario, sets, unsets=()):
+    """The scenario (file or built-in name) with the ``--set`` and ``--unset`` fields, or None with none."""
     from railwear.scenario import load_scenario
 
-    return scenario if not sets else load_scenario(scenario, sets)
+    return scenario if not sets and not unsets else load_scenario(scenario, sets, unsets)
 
 
 CheckpointEvery = Annotated[float, typer.Option(
@@ -309,13 +316,14 @@ def run(
     figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
     checkpoint_every: CheckpointEvery = 30.0,
     sets: Sets = [],
+    unsets: Unsets = [],
     fmt: Format = "png",
     dpi: Dpi = 120,
 ):
     """Run a scenario; write DIR/result.nc, summary.txt, summary.json and figures."""
     _option(checkpoint_every, "--checkpoint-every", 0, 1e9)
     _figure_options(fmt, dpi)
-    _run_and_write(scenario, output, figures, checkpoint_every, sets=sets, fmt=fmt, dpi=dpi)
+    _run_and_write(scenario, output, figures, checkpoint_every, sets=sets, fmt=fmt, dpi=dpi, unsets=unsets)
 
 
 @app.command()
@@ -385,6 +393,7 @@ def stability(
     amplitude_um: Annotated[Optional[float], typer.Option(help="crest amplitude (µm) for the evolution equation; default the scenario's initial rms, 0 for the round wheel")] = None,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-out"),
     sets: Sets = [],
+    unsets: Unsets = [],
     fmt: Format = "png",
     dpi: Dpi = 120,
 ):
@@ -404,7 +413,7 @@ def stability(
     _figure_options(fmt, dpi)
     _output(output)
     try:
-        ds = analysis.stability(_scenario(scenario, sets), v, n, None if amplitude_um is None else amplitude_um * UM)
+        ds = analysis.stability(_scenario(scenario, sets, unsets), v, n, None if amplitude_um is None else amplitude_um * UM)
     except ScenarioError as e:
         _fail(str(e), 2)
     label = ds.attrs["source"]
@@ -425,6 +434,7 @@ def track(
     frequencies: Annotated[str, typer.Option(help="frequencies in Hz, A:B:STEP or list; default 10-3000 Hz, log-spaced")] = "",
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-out"),
     sets: Sets = [],
+    unsets: Unsets = [],
     fmt: Format = "png",
     dpi: Dpi = 120,
 ):
@@ -436,7 +446,7 @@ def track(
     _figure_options(fmt, dpi)
     _output(output)
     try:
-        ds = analysis.track_receptance(_scenario(scenario, sets), f)
+        ds = analysis.track_receptance(_scenario(scenario, sets, unsets), f)
     except ScenarioError as e:
         _fail(str(e), 2)
     results.write_netcdf(ds, output / "track.nc")
@@ -460,6 +470,7 @@ def sweep(
     scheduler_file: Annotated[Optional[Path], typer.Option(help="Dask scheduler file")] = None,
     batch: Annotated[bool, typer.Option(help="run a grid over the speed alone as one batched solve")] = True,
     sets: Sets = [],
+    unsets: Unsets = [],
     fmt: Format = "png",
     dpi: Dpi = 120,
 ):
@@ -471,7 +482,7 @@ def sweep(
         _fail("--vary: give at least one NAME=A:B:STEP", 2)
     try:
         _output(output)
-        base = api.load_scenario(scenario, sets)
+        base = api.load_scenario(scenario, sets, unsets)
         varies = [sweeps.parse_vary(v) for v in vary]
         for assignment in sweeps.design(varies, samples, seed)[1][:1]:
             sweeps._assign(base, assignment)  # a field that is none fails here, before any worker starts
@@ -567,6 +578,7 @@ def forecast(
                                                                  "file of absolute radius_* or diameter_* columns")] = None,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-forecast"),
     sets: Sets = [],
+    unsets: Unsets = [],
     fmt: Format = "png",
     dpi: Dpi = 120,
 ):
@@ -581,7 +593,7 @@ def forecast(
         nominal = None if nominal_diameter is None else forecasts.parse_length(nominal_diameter, "--nominal-diameter", 4.0)
         _output(output)
         with _Warnings(), _Progress("railwear forecast") as progress:
-            ds = forecasts.forecast_file(measured, _scenario(scenario, sets), limits, samples, seed, horizon_km,
+            ds = forecasts.forecast_file(measured, _scenario(scenario, sets, unsets), limits, samples, seed, horizon_km,
                                          angle_unit, deviation_unit, progress=progress, nominal_diameter=nominal)
     except ScenarioError as e:
         _fail(str(e), 2)

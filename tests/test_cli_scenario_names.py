@@ -6,7 +6,7 @@ from typer.testing import CliRunner
 
 from railwear.cli import app
 from railwear.errors import ScenarioError
-from railwear.scenario import DEFAULT, builtin_text, load_scenario
+from railwear.scenario import DEFAULT, ShadowWarning, builtin_text, load_scenario
 from railwear.scenario.dynamics import load_dynamics_scenario
 
 
@@ -34,7 +34,8 @@ def test_commands_in_a_folder_holding_built_in_names(folders, command):
 
 def test_a_file_of_that_name_is_read(folders):
     (folders / "smoothing").write_text(builtin_text("onset").replace('name = "onset"', 'name = "mine"'))
-    assert load_scenario("smoothing").name == "mine"
+    with pytest.warns(ShadowWarning, match="reading the file smoothing in this folder, not the built-in"):
+        assert load_scenario("smoothing").name == "mine"
 
 
 @pytest.mark.parametrize("name, says", [("onset/", "is a folder"), ("sub", "is a folder"), ("nothere.toml", "does not exist"),

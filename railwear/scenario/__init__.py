@@ -18,7 +18,7 @@ from railwear.scenario import bodies  # noqa: F401  (registers the built-in [bod
 DEFAULT = "metro"
 
 __all__ = ["DEFAULT", "Scenario", "builtin_names", "builtin_text", "load_scenario", "parse_set",
-           "scenario_hash", "set_field", "to_toml"]
+           "scenario_hash", "set_field", "to_toml", "unset_field"]
 
 
 def _builtin_dir():
@@ -171,7 +171,19 @@ def scenario_text(path_or_name, names, directory, kind="scenario"):
     except OSError:  # a name too long for the file system: nothing there
         is_file = is_dir = exists = False
     if is_file:
-        return read_text(path), path.name, path.parent
+        text = read_text(path)
+        data = parse_toml(text, path.name)
+        shadows = name in names and path.suffix == ""  # a file in this folder named like a built-in
+        if not any(isinstance(value, dict) for value in data.values()):
+            given = f"only {', '.join(data)} and no [section]" if data else "nothing"
+            builtin = (f"; a file of that name in this folder is read in place of the built-in {kind} "
+                       f"{name!r} (railwear show {name} prints that one)" if shadows else "")
+            raise ScenarioError(f"{path.name}: not a {kind}: the file holds {given}, and the schema's defaults "
+                                f"alone are no wheel anyone meant{builtin}")
+        if shadows:
+            warnings.warn(f"reading the file {path} in this folder, not the built-in {kind} {name!r}",
+                          ShadowWarning, stacklevel=2)
+        return text, path.name, path.parent
     if name in names:
         return (directory / f"{name}.toml").read_text(), name, None
     known = f"built-in {kind}s: {', '.join(names)}"
@@ -182,6 +194,10 @@ def scenario_text(path_or_name, names, directory, kind="scenario"):
     if path.suffix == ".toml" or "/" in name or "\\" in name:
         raise ScenarioError(f"{kind} file {name} does not exist")
     raise ScenarioError(f"no built-in {kind} {name!r}; {known}")
+
+
+class ShadowWarning(UserWarning):
+    """A scenario file named like a built-in is read in its place."""
 
 
 SPEED_FIELDS = ("operation.speed_kmh", "operation.speed_m_s")  # one replaces the other
@@ -251,10 +267,32 @@ def _within(data, allowed):
             for k, v in data.items() if k in allowed}
 
 
-def load_scenario(path_or_name=None, overrides=()):
+def unset_field(data, path, applicable):
+    """Remove the dotted field or section ``path`` from plain scenario ``data`` (``--unset``), so
+    that it takes its default as if the file had not given it; ``applicable`` is the scenario's
+    every field with its default, to tell a field of the scenario from a misspelt one."""
+    if not all(key.strip() for key in path.split(".")):
+        raise OptionError(f"--unset {path!r}: expected a dotted scenario field such as track.ballast_stiffness_MN_m")
+    path = moved_field(path)
+    for table, said in ((data, None), (applicable, "it has its default already")):
+        try:
+            node, key = field_table(table, path, "--unset")
+        except OptionError:
+            continue
+        if key in node:
+            if said:
+                raise OptionError(f"--unset {path}: the scenario does not set it; {said}")
+            del node[key]
+            return
+    raise OptionError(f"--unset {path}: the scenario does not set it: no such field, or one that does not apply to it")
+
+
+def load_scenario(path_or_name=None, overrides=(), unset=()):
     """A scenario from a TOML file or a built-in name (the default scenario when ``None``), with
     ``overrides`` (``FIELD=VALUE`` texts or a ``{field: value}`` mapping) set as if in the file;
-    an override of a kind (:data:`KINDS`) drops the file's fields that do not apply to the new one."""
+    an override of a kind (:data:`KINDS`) drops the file's fields that do not apply to the new one.
+    ``unset`` names fields or sections (dotted) to remove first, each taking its default as if the
+    file had not given it (:func:`unset_field`); a field both unset and set is refused."""
     if isinstance(path_or_name, Scenario):
         base, source, base_dir = path_or_name, path_or_name.name, None
         data = base.model_dump(mode="python", exclude_unset=True)
@@ -263,11 +301,15 @@ def load_scenario(path_or_name=None, overrides=()):
                                                builtin_names(), _builtin_dir())
         data = new_layout(parse_toml(text, source), source)
         base = parse_scenario(data, source, base_dir)
-    if not overrides:
+    if not overrides and not unset:
         return base
     sets = dict(overrides.items() if isinstance(overrides, dict) else map(parse_set, overrides))
     sets = {moved_field(field): value for field, value in sets.items()}
-    source = f"{source} with --set"
+    source = f"{source} with --set" if sets else f"{source} with --unset"
+    for field in unset:
+        if moved_field(field.strip()) in sets:
+            raise OptionError(f"--unset {field}: also given to --set; give it one or the other")
+        unset_field(data, field.strip(), base.applicable(mode="python", exclude_none=False))
     current = {field: getattr(getattr(base, field.split(".")[0]), field.split(".")[1]) for field in KINDS}
     if any(sets.get(field, value) != value for field, value in current.items()):
         kinds = {}
