@@ -480,9 +480,28 @@ def forecast_file(measured, scenario=None, limit=0.3 * MM, samples=None, seed=No
         except ValidationError as e:
             raise OptionError(f"horizon_km: {horizon_km:g} km is {horizon:g} lives: "
                               f"{e.errors()[0]['msg'].removeprefix('Value error, ')}") from None
+    if nominal_diameter is not None:
+        check_diameter(nominal_diameter, sc)
     angle, deviation = read_measured(measured, angle_unit, deviation_unit, field=str(measured),
                                      nominal_diameter=nominal_diameter)
-    return forecast(sc, angle, deviation, limit, horizon, progress=progress, horizon_field="horizon_km")
+    ds = forecast(sc, angle, deviation, limit, horizon, progress=progress, horizon_field="horizon_km")
+    ds.attrs["diameter_checked"] = int(nominal_diameter is not None)
+    return ds
+
+
+DIAMETER_MATCH = 0.01  # a measured wheel's nominal diameter within 1 % of the scenario's wheel is that wheel
+
+
+def check_diameter(nominal_diameter, scenario):
+    """Refuse a measured wheel whose nominal diameter (m) is not the scenario's wheel's (within
+    :data:`DIAMETER_MATCH`): its orders would be read on another circumference and run by another
+    wheel's physics (an 840 mm metro wheel under a 920 mm scenario)."""
+    wheel = 2 * scenario.wheel.radius_m
+    if not abs(nominal_diameter - wheel) <= DIAMETER_MATCH * wheel:
+        raise OptionError(
+            f"--nominal-diameter: the measured wheel is {nominal_diameter / MM:g} mm, the scenario's {wheel / MM:g} mm "
+            f"(wheel.radius_m = {scenario.wheel.radius_m:g}): the forecast would read it as another wheel; give a "
+            f"scenario of that wheel (--set wheel.radius_m={nominal_diameter / 2:g}) or check the diameter")
 
 
 def _km(x, horizon):
@@ -516,6 +535,11 @@ def measured_text(ds):
     else:
         lines = [f"measured wheel: {a['measured_peak_to_peak_m'] / UM:.1f} um peak to peak, round: no polygon order "
                  "has an amplitude"]
+    if "wheel_diameter_m" in a:
+        size = f"  wheel diameter {a['wheel_diameter_m'] / MM:g} mm, the scenario's (wheel.radius_m)"
+        lines.append(size + (": the measured wheel's nominal diameter agrees" if a.get("diameter_checked") else
+                             "; the measured wheel's is not given, so a wheel of another size is read as "
+                             "this one (--nominal-diameter checks it)"))
     level = ds.measured_band_level.values
     if np.isfinite(level).any():
         keep = level >= np.max(level[np.isfinite(level)]) - ECHO_RANGE

@@ -77,7 +77,7 @@ def test_cli_forecast_reads_a_device_file_with_its_nominal(tmp_path):
     path = write(tmp_path, "angle_deg;diameter_mm", NOMINAL * 1e3 + 2 * DEVIATION_UM * 1e-3, ";", True)
     runner = CliRunner()
     r = runner.invoke(app, ["forecast", str(path), "--scenario", str(tmp_path / "s.toml"), "--nominal-diameter", "840mm",
-                            "-o", str(tmp_path / "out")])
+                            "--set", "wheel.radius_m=0.42", "-o", str(tmp_path / "out")])  # the scenario's wheel is that wheel
     assert r.exit_code == 0, r.output
     ptp = np.ptp(DEVIATION_UM)
     assert "measured wheel: " in r.output and abs(float(r.output.split("measured wheel: ")[1].split()[0]) - ptp) < 0.5
