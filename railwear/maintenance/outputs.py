@@ -1,0 +1,191 @@
+"""What ``railwear plan`` writes besides ``plan.nc``: the text for a person, the comparison and the
+turnings as CSV tables, and the figure (layer 4). Everything is read from the plan's Dataset, so
+the files can be written again from ``plan.nc``."""
+
+from pathlib import Path
+
+import numpy as np
+
+from railwear import results
+from railwear.units import MM
+
+TEXT, TABLE, TURNINGS, FIGURE = "plan.txt", "plan.csv", "turnings.csv", "plan.png"
+
+
+def _km(x):
+    return f"{x:,.0f}" if np.isfinite(x) else "not scrapped"
+
+
+def _middle(ds):
+    """Index of the growth multiplier the text and the figure detail: 1 if given, else the middle."""
+    g = ds.growth.values
+    return int(np.argmin(np.abs(g - 1.0))) if np.any(g == 1.0) else g.size // 2
+
+
+def _band(ds, p, g):
+    """``(median, p05, p95)`` of the distance to scrap (km) over the drawn wheels, or None."""
+    if "distance_to_scrap_p50" not in ds:
+        return None
+    return tuple(float(ds[f"distance_to_scrap_{q}"][p, g]) for q in ("p50", "p05", "p95"))
+
+
+def comparison_rows(ds):
+    """One row per policy and growth multiplier: the comparison a planner reads."""
+    rows = []
+    for p, name in enumerate(ds.policy.values):
+        for g, growth in enumerate(ds.growth.values):
+            w0 = ds.isel(policy=p, growth=g, wheel=0)
+            row = {"policy": str(name), "growth": float(growth), "turnings": int(w0.turnings),
+                   "distance_to_scrap_km": float(w0.distance_to_scrap), "km_per_mm_diameter": float(w0.distance_per_mm),
+                   "turnings_per_million_km": float(w0.turnings_per_million_km), "end": str(w0.end_reason.values)}
+            band = _band(ds, p, g)
+            if band is not None:
+                drawn = ds.isel(policy=p, growth=g, wheel=slice(1, None))
+                row.update({"median_km": band[0], "p05_km": band[1], "p95_km": band[2],
+                            "median_turnings": float(np.median(drawn.turnings.values)),
+                            "median_km_per_mm": float(np.nanmedian(drawn.distance_per_mm.values))})
+            rows.append(row)
+    return rows
+
+
+def _csv(rows):
+    head = list(rows[0])
+    lines = [",".join(head)]
+    for row in rows:
+        lines.append(",".join(f"{row[k]:.10g}" if isinstance(row[k], float) else
+                              f'"{row[k]}"' if ("," in str(row[k]) or " " in str(row[k])) else str(row[k]) for k in head))
+    return "\n".join(lines) + "\n"
+
+
+def turning_rows(ds):
+    """One row per turning of every life."""
+    rows = []
+    for (p, name) in enumerate(ds.policy.values):
+        for g, growth in enumerate(ds.growth.values):
+            for w in ds.wheel.values:
+                life = ds.isel(policy=p, growth=g, wheel=int(w))
+                for k in range(int(life.turnings)):
+                    t = life.isel(turning=k)
+                    rows.append({"policy": str(name), "growth": float(growth), "wheel": int(w), "turning": k + 1,
+                                 "distance_km": float(t.turning_distance), "trigger": str(t.trigger.values),
+                                 "peak_to_peak_mm": float(t.peak_to_peak_at_turning) / MM,
+                                 "dominant_order": int(t.dominant_order), "cut_mm": float(t.cut_depth) / MM,
+                                 "diameter_before_mm": float(t.diameter_before) / MM,
+                                 "diameter_after_mm": float(t.diameter_after) / MM, "selected_order": int(t.selected_order)})
+    return rows
+
+
+def report(ds):
+    """The plan in words: the wheel, the growth band, each policy's life of wheel 0 at growth 1
+    (or the middle multiplier) turning by turning, and the comparison."""
+    a = ds.attrs
+    n = ds.sizes["wheel"] - 1
+    w0 = ds.isel(wheel=0)
+    lines = [f"plan of {a['scenario_name']}: {a['new_diameter_m'] / MM:g} mm new wheel; wheel 0 at "
+             f"{float(w0.speed_kmh):g} km/h, {float(w0.static_load):.4g} kN, friction {float(w0.friction_coefficient):g}"
+             + (f"; {n} wheels drawn from [service] (seed {a.get('seed')})" if n else ""),
+             a["growth_band"], ""]
+    g = _middle(ds)
+    growth = float(ds.growth[g])
+    for p, name in enumerate(ds.policy.values):
+        life = ds.isel(policy=p, growth=g, wheel=0)
+        k = int(life.turnings)
+        lines.append(f"policy {name}, growth x{growth:g}, wheel 0: {k} turning{'' if k == 1 else 's'}, "
+                     + (f"scrapped after {_km(float(life.distance_to_scrap))} km ({life.end_reason.values}) at "
+                        f"{float(life.final_diameter) / MM:.1f} mm" if np.isfinite(float(life.distance_to_scrap)) else
+                        f"not scrapped within the horizon of {a['horizon_km']:,.0f} km")
+                     + f"; the new wheel selects order {int(life.selected_order_new)}")
+        if int(life.turnings):
+            lines.append("  turning  distance (km)  p-p before (mm)  order  cut (mm)  diameter (mm)    order after  trigger")
+        for k in range(int(life.turnings)):
+            t = life.isel(turning=k)
+            lines.append(f"  {k + 1:7d}  {float(t.turning_distance):13,.0f}  {float(t.peak_to_peak_at_turning) / MM:15.3f}  "
+                         f"{int(t.dominant_order):5d}  {float(t.cut_depth) / MM:8.2f}  "
+                         f"{float(t.diameter_before) / MM:6.1f} -> {float(t.diameter_after) / MM:5.1f}  "
+                         f"{int(t.selected_order):11d}  {t.trigger.values}")
+        lines.append("")
+    band = "distance to scrap, km: wheel 0" + (f"; median and 5-95 % band over {n} drawn wheels" if n else "")
+    lines.append(f"comparison ({band}):")
+    head = f"  {'policy':<20} {'growth':>6} {'turnings':>8} {'wheel 0':>12}"
+    head += f" {'median':>12} {'5-95 %':>25}" if n else ""
+    lines.append(head + f" {'km per mm':>10} {'turnings per 10^6 km':>21}")
+    for row in comparison_rows(ds):
+        line = f"  {row['policy']:<20} {row['growth']:>6g} {row['turnings']:>8d} {_km(row['distance_to_scrap_km']):>12}"
+        if n:
+            line += f" {_km(row['median_km']):>12} {_km(row['p05_km']) + ' - ' + _km(row['p95_km']):>25}"
+        lines.append(line + f" {row['km_per_mm_diameter']:>10,.0f} {row['turnings_per_million_km']:>21.2f}")
+    return "\n".join(lines) + "\n"
+
+
+def figure(ds):
+    """Per policy, wheel 0 at growth 1 (or the middle multiplier): the peak-to-peak deviation (mm)
+    over distance with the turnings marked, and the mean diameter (mm) on a second axis; below,
+    the distance to scrap of each policy at each growth multiplier (wheel 0, and the median with
+    its 5-95 % band over the drawn wheels)."""
+    from matplotlib.figure import Figure
+
+    n_p = ds.sizes["policy"]
+    fig = Figure(figsize=(8, 2.6 * n_p + 3.2), layout="constrained")
+    axes = fig.subplots(n_p + 1, 1, squeeze=False)[:, 0]
+    g = _middle(ds)
+    growth = float(ds.growth[g])
+    for p, name in enumerate(ds.policy.values):
+        ax = axes[p]
+        life = ds.isel(policy=p, growth=g, wheel=0)
+        keep = np.isfinite(life.history_distance.values)
+        x = life.history_distance.values[keep] / 1e3
+        ax.plot(x, life.history_peak_to_peak.values[keep] / MM, color="C0", lw=1, label="peak to peak")
+        k = int(life.turnings)
+        at = life.turning_distance.values[:k] / 1e3
+        ax.plot(at, life.peak_to_peak_at_turning.values[:k] / MM, "v", color="C3", ms=6,
+                label=f"turning ({k})")
+        limit = float(ds.peak_to_peak_limit[p])
+        if np.isfinite(limit):
+            ax.axhline(limit / MM, color="C3", ls="--", lw=0.8, label=f"trigger {limit / MM:g} mm")
+        ax.set(ylabel="peak to peak (mm)", title=f"{name}: wheel 0 at growth x{growth:g}, "
+               f"{'scrapped after ' + _km(float(life.distance_to_scrap)) + ' km' if np.isfinite(float(life.distance_to_scrap)) else 'not scrapped'}")
+        top = np.nanmax(life.history_peak_to_peak.values[keep]) / MM
+        ax.set_ylim(0, 2.0 * max(top, limit / MM if np.isfinite(limit) else 0))  # the legend above the curves
+        right = ax.twinx()
+        d = life.history_diameter.values[keep] / MM
+        right.plot(x, d, color="C2", lw=1.2, label="mean diameter")
+        span = max(np.ptp(d), 1.0)
+        right.set_ylim(d.min() - 0.1 * span, d.max() + 0.9 * span)
+        right.set_ylabel("diameter (mm)", color="C2")
+        right.tick_params(axis="y", colors="C2")
+        handles = ax.get_legend_handles_labels()[0] + right.get_legend_handles_labels()[0]
+        ax.legend(handles=handles, fontsize="small", loc="upper right")
+        ax.xaxis.set_major_formatter(lambda v, _: f"{v:,.0f}")
+    axes[n_p - 1].set_xlabel("distance run (10³ km)")
+    ax = axes[-1]
+    positions = np.arange(n_p)
+    offsets = (np.arange(ds.sizes["growth"]) - (ds.sizes["growth"] - 1) / 2) * 0.12
+    for j, growth in enumerate(ds.growth.values):
+        x = positions + offsets[j]
+        scrap = ds.distance_to_scrap.isel(growth=j, wheel=0).values / 1e6
+        ax.plot(x, np.where(np.isfinite(scrap), scrap, np.nan), "o", color=f"C{j}", label=f"growth x{growth:g}, wheel 0")
+        if "distance_to_scrap_p50" in ds:
+            med, low, high = (ds[f"distance_to_scrap_{q}"].isel(growth=j).values / 1e6 for q in ("p50", "p05", "p95"))
+            shown = np.isfinite(med) & np.isfinite(low) & np.isfinite(high)  # a life not scrapped has no distance
+            ax.errorbar(x[shown] + 0.04, med[shown], yerr=[med[shown] - low[shown], high[shown] - med[shown]], fmt="s",
+                        mfc="none", color=f"C{j}", capsize=3,
+                        label=f"growth x{growth:g}, median and 5-95 % of {ds.sizes['wheel'] - 1} wheels")
+    ax.set_xticks(positions, [str(n) for n in ds.policy.values])
+    ax.set(ylabel="distance to scrap (10⁶ km)", title="distance to scrap by policy and growth multiplier")
+    ax.legend(fontsize="small", loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
+    return fig
+
+
+def write(ds, directory, fmt="png", dpi=120, figures=True):
+    """``plan.nc``, ``plan.txt``, ``plan.csv``, ``turnings.csv`` and ``plan.png`` (with
+    ``figures``) in ``directory``, each written atomically; returns their paths."""
+    from railwear import plots
+
+    directory = Path(directory)
+    paths = [results.write_netcdf(ds, directory / "plan.nc"), results.write_text(report(ds), directory / TEXT),
+             results.write_text(_csv(comparison_rows(ds)), directory / TABLE)]
+    rows = turning_rows(ds)
+    paths.append(results.write_text(_csv(rows) if rows else "no turning\n", directory / TURNINGS))
+    if figures:
+        paths.append(plots.save(figure(ds), directory / FIGURE, fmt, dpi))
+    return paths
