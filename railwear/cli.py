@@ -710,7 +710,19 @@ def simulate(
     if "hopf_speed" in ds.attrs:
         typer.echo(f"Hopf point {m_s_to_kmh(ds.attrs['hopf_speed']):.1f} km/h, nonlinear critical speed "
                    f"{m_s_to_kmh(ds.attrs['nonlinear_critical_speed']):.1f} km/h")
+        published = dynamics.published_hopf(sc)
+        if published is not None:
+            typer.echo(published_hopf_line(ds.attrs["hopf_speed"], *published))
     typer.echo(f"wrote {output / 'dynamics.nc'} and {figure}")
+
+
+def published_hopf_line(hopf, published, source):
+    """The line that says a model's Hopf point (m/s) is not the published one."""
+    from railwear.units import m_s_to_kmh
+
+    return (f"  not the published bogie's: its Hopf point is {m_s_to_kmh(published):.1f} km/h ({published:g} m/s; "
+            f"{source}), and this model's is {abs(1 - hopf / published):.0%} {'lower' if hopf < published else 'higher'}: "
+            "not reproduced (docs/dynamics.md, 'The published Cooperrider bogie')")
 
 
 @app.command()

@@ -26,6 +26,19 @@ from railwear.units import UM
 
 STRICT = ConfigDict(extra="forbid", frozen=True, strict=True, allow_inf_nan=False)
 
+# Published linear critical speeds (m/s) of models whose railwear version does not reproduce them,
+# with their source: a run of the conical model says the published value beside its own
+# (docs/dynamics.md, "The published Cooperrider bogie": 52.245 m/s here, 24 % low).
+PUBLISHED_HOPF = {"cooperrider": (68.66, "Seydel, bifurcation.de example exd10, from Kaas-Petersen's model")}
+
+
+def published_hopf(scenario):
+    """``(speed in m/s, source)`` of the published Hopf point of the scenario's model on conical
+    wheels, or None (a model on real profiles, or one without a published value)."""
+    if scenario.model.profiles is not None:
+        return None
+    return PUBLISHED_HOPF.get(scenario.model.kind)
+
 
 class Quantity(NamedTuple):
     """A scenario field of a dynamics model: the model's field it sets (SI), the unit of the
