@@ -56,13 +56,14 @@ def _failed(ev):
     return details is not None and details[0] is not None
 
 
-def compile_listener(delay=NOTICE_AFTER, echo=None):
+def compile_listener(delay=None, echo=None):
     """A numba ``numba:compile`` listener for the command line. numba fires the event on every
     miss of its in-memory table, and a miss can end at once without compiling (a kernel that asks
     for its argument as a literal raises ``ForceLiteralArg`` and is loaded from the disk cache
     with the literal type: on a warm cache, 2 such events of 6 ms each per run). So the notice
     'compiling kernels (first run only)...' prints only when a compile is still going after
-    ``delay`` seconds, and ``_compile_notice['compiled']`` (what the report says) is set only by
+    ``delay`` seconds (default :data:`NOTICE_AFTER` as it is when a compile starts; 0: at once),
+    and ``_compile_notice['compiled']`` (what the report says) is set only by
     a compile that finished (the event not failed). On a terminal the progress bar (or a status
     line) names the kernel compiling and counts those done; in a log, one line per kernel that
     took 2 s or more. ``echo`` prints a line to standard error (tests pass their own)."""
@@ -80,8 +81,11 @@ def compile_listener(delay=NOTICE_AFTER, echo=None):
             self.depth += 1
             if self.depth == 1:
                 self.started = [getattr(ev.data.get("dispatcher"), "__name__", "kernel").lstrip("_"), time.monotonic()]
-                if not _compile_notice["printed"]:
-                    self.timer = threading.Timer(delay, self.announce)
+                wait = NOTICE_AFTER if delay is None else delay
+                if not _compile_notice["printed"] and wait <= 0:
+                    self.announce()
+                elif not _compile_notice["printed"]:
+                    self.timer = threading.Timer(wait, self.announce)
                     self.timer.daemon = True
                     self.timer.start()
 

@@ -342,7 +342,7 @@ def _linear_runs(samples, u0, t_end, progress=None):
 
 
 def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=201, progress=None,
-             horizon_field="horizon"):
+             horizon_field="horizon", diameter_checked=False):
     """Distance (km) until the measured wheel reaches ``limit``, per sample: each sample's speed,
     load and friction run by the scenario's Fourier technique or multiplier law on its body, or
     else by the evolution equation of its ``[wear_rate]`` (batched over the samples).
@@ -352,7 +352,8 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
     normed time (default the scenario's ``solver.t_end``). Returns a Dataset with the samples'
     conditions, peak-to-peak and excess over the limit over distance, crossing distances, the
     measured wheel's state, and the quantiles in attributes. Warns (:class:`NoScatterWarning`)
-    when the samples all run the same conditions. A forecast past ``MAX_SAVED_VALUES`` or
+    when the samples all run the same conditions; ``diameter_checked``: whether the measured
+    wheel's nominal diameter was found to be the scenario's (:func:`check_diameter`). A forecast past ``MAX_SAVED_VALUES`` or
     :data:`MAX_FORECAST_WORK` is refused before it runs (:class:`ScenarioError` naming
     ``service.samples``, or ``horizon_field``, the horizon's name, ``solver.t_end`` without one).
     """
@@ -435,6 +436,7 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
              "measured_peak_to_peak_m": state["peak_to_peak"], "measured_dominant_order": state["dominant_order"],
              "measured_dominant_amplitude_m": state["dominant_amplitude"],
              "measured_dominant_level_db": state["dominant_level"], "wheel_diameter_m": diameter,
+             "diameter_checked": int(bool(diameter_checked)),
              "scenario": to_toml(scenario), "scenario_hash": scenario_hash(scenario)}
     for key in ("initial_excess_db", "measured_dominant_level_db"):  # -inf dB of a round wheel: no level
         if not np.isfinite(attrs[key]):
@@ -484,9 +486,8 @@ def forecast_file(measured, scenario=None, limit=0.3 * MM, samples=None, seed=No
         check_diameter(nominal_diameter, sc)
     angle, deviation = read_measured(measured, angle_unit, deviation_unit, field=str(measured),
                                      nominal_diameter=nominal_diameter)
-    ds = forecast(sc, angle, deviation, limit, horizon, progress=progress, horizon_field="horizon_km")
-    ds.attrs["diameter_checked"] = int(nominal_diameter is not None)
-    return ds
+    return forecast(sc, angle, deviation, limit, horizon, progress=progress, horizon_field="horizon_km",
+                    diameter_checked=nominal_diameter is not None)
 
 
 DIAMETER_MATCH = 0.01  # a measured wheel's nominal diameter within 1 % of the scenario's wheel is that wheel

@@ -187,7 +187,9 @@ def test_cli_forecast_bad_samples_is_one_line_with_status_2(wheel):
 
 def test_compile_notice_once_when_numba_compiles_and_not_otherwise(monkeypatch, tmp_path):
     """The notice hangs on numba's compile event, which a cache hit does not raise: a kernel
-    compiled during a command prints it (once), a command that compiles nothing stays quiet."""
+    compiled during a command prints it (once), a command that compiles nothing stays quiet. (It
+    prints when a compile goes on for cli.NOTICE_AFTER, 0.5 s; these two take milliseconds, so at
+    once here: tests/test_compile_notice.py has the delay.)"""
     import numba
 
     def stub(compile_kernels):
@@ -199,6 +201,7 @@ def test_compile_notice_once_when_numba_compiles_and_not_otherwise(monkeypatch, 
         return stability
 
     monkeypatch.setitem(cli._compile_notice, "printed", False)
+    monkeypatch.setattr(cli, "NOTICE_AFTER", 0.0)
     runner = CliRunner()
     monkeypatch.setattr(analysis, "stability", stub(False))
     quiet = runner.invoke(app, ["stability", "-o", str(tmp_path)])
