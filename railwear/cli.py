@@ -406,7 +406,7 @@ def stability(
     From the evolution equation's dispersion relation, or, for a scenario with the Fourier
     strategy, from the disk wheel's transfer functions (per km run).
     """
-    from railwear import analysis, results
+    from railwear import analysis, api, results
     from railwear.units import UM, m_s_to_kmh
 
     v = _parse_range(speeds, "--speeds")
@@ -417,7 +417,9 @@ def stability(
     _figure_options(fmt, dpi)
     _output(output)
     try:
-        ds = analysis.stability(_scenario(scenario, sets, unsets), v, n, None if amplitude_um is None else amplitude_um * UM)
+        sc = api.load_scenario(scenario, sets, unsets)
+        ds = analysis.stability(sc, v, n, None if amplitude_um is None else amplitude_um * UM)
+        ds.attrs.update(_map_marks(sc))
     except ScenarioError as e:
         _fail(str(e), 2)
     label = ds.attrs["source"]
@@ -430,6 +432,26 @@ def stability(
     else:
         typer.echo(f"no order grows in {v.min():g}-{v.max():g} km/h ({label})")
     typer.echo(f"wrote {output / 'stability.nc'}")
+
+
+def _map_marks(sc):
+    """What a stability map draws over the growth: the scenario's speed (km/h) and wheel diameter
+    (m), and for a wheel on a track the P2 frequency (Hz), whose order ``n = f π D / V`` the map
+    draws over the speed; the normed life (km), by which a map per unit normed time is drawn per
+    10 000 km."""
+    from railwear.units import m_s_to_kmh
+
+    marks = {"wheel_diameter_m": 2 * sc.wheel.radius_m, "life_distance_km": sc.operation.life_distance_km}
+    if isinstance(sc.operation.speeds, float):
+        marks["run_speed_kmh"] = round(m_s_to_kmh(sc.operation.speeds), 6)
+    if "track" in sc.body.sections:
+        from railwear.longterm.vehicle_track import VehicleTrackModel, p2_frequency
+        from railwear.scenario import build
+
+        case = sc.body.case(sc)
+        model = VehicleTrackModel(case.wheel(build.one_speed(sc)), case.track, sc.track.bay_positions, case.wheel_modes)
+        marks["p2_frequency_hz"] = float(p2_frequency(model))
+    return marks
 
 
 @app.command()

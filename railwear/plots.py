@@ -320,6 +320,8 @@ def stability(map_ds):
     label = map_ds.growth_rate.attrs.get("long_name", "growth rate") + ("" if units == "1" else f" ({units})")
     if units == "km-1":
         rate, label = rate * 1e4, "growth per 10 000 km (ln of amplitude ratio)"
+    elif units == "1" and map_ds.attrs.get("life_distance_km", 0) > 0:  # per unit normed time: one life
+        rate, label = rate * 1e4 / map_ds.attrs["life_distance_km"], "growth per 10 000 km (ln of amplitude ratio)"
     low, high = float(np.min(rate)), float(np.max(rate))
     if low < 0 < high:
         norm = TwoSlopeNorm(0.0, low, high)
@@ -331,11 +333,32 @@ def stability(map_ds):
     if low < 0 < high and speed.size > 1:
         ax.contour(speed, map_ds.order.values, rate, levels=[0.0], colors="k", linewidths=1)
     fig.colorbar(mesh, ax=ax, label=label)
+    _stability_lines(ax, map_ds, speed)
     source = map_ds.attrs.get("source") or (f"crest amplitude {map_ds.attrs['amplitude'] / UM:g} µm"
                                             if "amplitude" in map_ds.attrs else "")
     ax.set(xlabel="speed (km/h)", ylabel="polygon order")
     fig.suptitle(textwrap.fill("stability map" + (f": {source}" if source else ""), 90), fontsize="medium")
     return fig
+
+
+def _stability_lines(ax, map_ds, speed):
+    """On a stability map, where its attributes give them: the run's speed (``run_speed_kmh``) and
+    the order the P2 resonance ``p2_frequency_hz`` excites at each speed on a wheel of
+    ``wheel_diameter_m``, ``n = f π D / V``."""
+    a, lines = map_ds.attrs, False
+    if "run_speed_kmh" in a and speed.min() <= a["run_speed_kmh"] <= speed.max():
+        ax.axvline(a["run_speed_kmh"], color="k", ls="--", lw=1, label=f"the run: {a['run_speed_kmh']:g} km/h")
+        lines = True
+    if "p2_frequency_hz" in a and "wheel_diameter_m" in a:
+        v = np.linspace(speed.min(), speed.max(), 200)
+        n = a["p2_frequency_hz"] * np.pi * a["wheel_diameter_m"] / (v / 3.6)
+        top = float(map_ds.order.max()) + 0.5
+        ax.plot(v[n <= top], n[n <= top], color="0.25", ls="-.", lw=1.2,
+                label=f"n = f π D / V, P2 {a['p2_frequency_hz']:.1f} Hz")
+        ax.set_ylim(float(map_ds.order.min()) - 0.5, top)
+        lines = True
+    if lines:
+        ax.legend(fontsize="x-small", loc="upper right", framealpha=0.9)
 
 
 def worn_profile(ds):
