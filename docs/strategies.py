@@ -335,9 +335,10 @@ WHY = """## Why
   polygonalising, below half smoothing, 10 % rms growth or 1.5x of an order present at the start
   onset). Over 0.3 mm (about 8400 km at 70 km/h) order 8 grows by its 2.7e-5 per km only 1.25x
   while the initial roughness in the decaying orders falls, so every run here is stable by that
-  rule; run further, the 70 km/h wheel turns onset (the built-in scenarios linear-dynamics,
-  stepwise and direct, to 1 mm: order 8 leading in all three). The growth rates are in the
-  second table.
+  rule; run further, the 70 km/h wheel turns onset by it (the built-in scenarios
+  linear-dynamics, stepwise and direct, to 1 mm: order 8 leading in all three), and
+  polygonalising by the wheel's rule the command line prints (order 8 at +47, +24 and +41 % per
+  10 000 km; docs/outputs.md). The growth rates are in the second table.
 """
 
 
