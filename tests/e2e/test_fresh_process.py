@@ -111,6 +111,8 @@ CASES = {
     "direct": ("direct", (), (50,)),
     "vehicle-track-direct": (metro_on_the_ring_track, (), (50,)),
     "phenomenological-batch": ("onset", ("operation.speed_kmh=[170.0, 190.0]", "solver.points=256"), (30,)),
+    # the multiplier's [solver] defaults round-trip through the checkpoint's scenario (it was refused)
+    "multiplier": ("metro", ("strategy.kind=multiplier",), (10, 20)),
 }
 
 
