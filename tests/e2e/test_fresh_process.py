@@ -135,7 +135,9 @@ def test_killed_run_resumes_to_the_same_result(case, tmp_path):
     stale = out / f".checkpoint.npz.{dead_pid()}.0123abcd.part"
     stale.write_bytes(b"PK\x03\x04 cut short")  # a checkpoint write killed halfway
     done = railwear("resume", out, "--no-figures", cwd=tmp_path)
-    assert "removed 1 temporary file" in done.stderr and not stale.exists()
+    # the SIGKILL itself may land during a checkpoint write and leave a .part of its own: 1 or 2
+    assert re.search(r"removed [12] temporary file", done.stderr) and not stale.exists()
+    assert not list(out.glob(".*.part")), "a temporary file is left after the resume"
     assert not (out / "checkpoint.npz").exists()
     assert_same_result(tmp_path / "reference" / "result.nc", out / "result.nc")
 
