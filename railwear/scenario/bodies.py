@@ -12,10 +12,15 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from railwear.errors import ScenarioError
-from railwear.longterm.vehicle_track import METRO
-from railwear.scenario import build
 from railwear.scenario.schema import (BodySection, Damping, Mass, PathText, Stiffness, body_section, refuse)
 from railwear.units import GPA, KN, MM, MN, UM
+
+def _build():
+    """The builders, imported when a body is built: the schema loads without the physics."""
+    from railwear.scenario import build
+
+    return build
+
 
 Revolutions = Annotated[int, Field(ge=0, le=100000)]
 Samples = Annotated[int, Field(ge=2, le=100000)]  # Monte Carlo draws per frozen-geometry step: 2 for a variance
@@ -83,15 +88,15 @@ class DiskWheelSection(RollingWheel):
         from railwear.longterm.disk_wheel import DiskWheel
         from railwear.longterm.disk_wheel_state import StatefulDiskWheel
 
-        service, law = build.service_speeds(scenario), build.wear_law(scenario)
+        service, law = _build().service_speeds(scenario), _build().wear_law(scenario)
         model = self.model(scenario, service.mean if speed is None else speed)
-        args = (model, law, build.band_width(scenario), build.life_distance(scenario), service)
+        args = (model, law, _build().band_width(scenario), _build().life_distance(scenario), service)
         if getattr(law, "stateful", False):
             return StatefulDiskWheel(*args, **self.settings(), state_scale=scenario.wear.state_scale_um * UM)
         return DiskWheel(*args, **self.settings())
 
     def linear_model(self, scenario, speed):
-        return self.model(scenario, speed), build.band_width(scenario)
+        return self.model(scenario, speed), _build().band_width(scenario)
 
 
 @body_section
@@ -105,10 +110,12 @@ class VehicleTrackSection(RollingWheel):
     metro motor car of docs/vehicle_track.md (Math. Probl. Eng. 2020, 1584624, Table 6)."""
 
     kind: Literal["vehicle_track"] = "vehicle_track"
-    wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = METRO.wheel_inertia
-    sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = METRO.sprung_mass
-    primary_stiffness_MN_m: Annotated[float, Field(ge=0, le=1e3)] = METRO.primary_stiffness / MN
-    primary_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = METRO.primary_damping / KN
+    # METRO's (longterm.vehicle_track), written out so that the schema loads without the physics;
+    # tests/longterm/test_metro_scenario.py holds them equal
+    wheel_inertia_kg_m2: Annotated[float, Field(ge=1e-3, le=1e5)] = 60.0
+    sprung_mass_kg: Annotated[float, Field(ge=1, le=1e6)] | None = 855.0
+    primary_stiffness_MN_m: Annotated[float, Field(ge=0, le=1e3)] = 1.7
+    primary_damping_kN_s_m: Annotated[float, Field(ge=0, le=1e4)] = 10.0
     wheel_mode_frequencies_hz: Annotated[list[Annotated[float, Field(ge=1, le=1e4)]], Field(max_length=100)] = []
     wheel_mode_masses_kg: Annotated[list[Annotated[float, Field(ge=1, le=1e5)]], Field(max_length=100)] = []
     wheel_mode_damping_ratios: Annotated[list[Annotated[float, Field(ge=0, le=1)]], Field(max_length=100)] = []
@@ -165,8 +172,8 @@ class VehicleTrackSection(RollingWheel):
             name=scenario.name, diameter=2 * w.radius_m, static_load=w.static_load_kN * KN,
             unsprung_mass=w.unsprung_mass_kg, wheel_inertia=self.wheel_inertia_kg_m2,
             sprung_mass=self.sprung_mass_kg, primary_stiffness=self.primary_stiffness_MN_m * MN,
-            primary_damping=self.primary_damping_kN_s_m * KN, track=build.track(scenario),
-            traction_coefficient=c.traction_coefficient, band_width=build.band_width(scenario),
+            primary_damping=self.primary_damping_kN_s_m * KN, track=_build().track(scenario),
+            traction_coefficient=c.traction_coefficient, band_width=_build().band_width(scenario),
             rail_head_radius=c.rail_head_radius_m, friction_coefficient=c.friction_coefficient,
             youngs_modulus=c.youngs_modulus_GPa * GPA, poisson=c.poisson,
             wheel_modes=tuple(zip(self.wheel_mode_frequencies_hz, self.wheel_mode_masses_kg,
@@ -176,12 +183,12 @@ class VehicleTrackSection(RollingWheel):
         """The wheel on the time-domain track (a ring of ``track.ring_sleepers`` bays)."""
         from railwear.longterm.vehicle_track_body import VehicleTrackBody, ring_for
 
-        service, case, t = build.service_speeds(scenario), self.case(scenario), scenario.track
+        service, case, t = _build().service_speeds(scenario), self.case(scenario), scenario.track
         if case.wheel_modes:
             raise ScenarioError("body.wheel_mode_frequencies_hz: the time-domain vehicle-track body has no flexible "
                                 "wheelset modes; use the fourier or multiplier strategy")
-        return VehicleTrackBody(case.wheel(service.mean if speed is None else speed), build.wear_law(scenario),
-                                case.band_width, build.life_distance(scenario), service, **self.settings(),
+        return VehicleTrackBody(case.wheel(service.mean if speed is None else speed), _build().wear_law(scenario),
+                                case.band_width, _build().life_distance(scenario), service, **self.settings(),
                                 ring=ring_for(case.track, t.ring_sleepers, t.ring_max_frequency_hz))
 
     def linear_model(self, scenario, speed):
@@ -194,7 +201,7 @@ class VehicleTrackSection(RollingWheel):
 
     def growth_map(self, scenario, speeds, orders):
         """The Fourier growth map with the rail receptance evaluated once per bay offset."""
-        return self.case(scenario).growth_map(speeds, orders, build.wear_law(scenario), scenario.track.bay_positions)
+        return self.case(scenario).growth_map(speeds, orders, _build().wear_law(scenario), scenario.track.bay_positions)
 
 
 @body_section
@@ -286,7 +293,7 @@ class WheelsetSection(BodySection):
         from railwear.geometry import contact_table
         from railwear.longterm.wheelset_wear import WheelsetWear
 
-        speed, c, w, ws = build.one_speed(scenario), scenario.contact, scenario.wheel, scenario.wheelset
+        speed, c, w, ws = _build().one_speed(scenario), scenario.contact, scenario.wheel, scenario.wheelset
         n = max(int(round(self.shift_max_mm / self.shift_step_mm)), 1)
         shifts = np.round(np.linspace(-self.shift_max_mm, self.shift_max_mm, 2 * n + 1) * MM, 12)
         wheel, rail = self.profile("wheel"), self.profile("rail")
@@ -297,7 +304,7 @@ class WheelsetSection(BodySection):
                                    lateral_stiffness=ws.lateral_stiffness_N_m, yaw_stiffness=ws.yaw_stiffness_N_m_rad,
                                    table=table, friction_coefficient=c.friction_coefficient)
         edges = np.round(np.linspace(self.lateral_min_mm, self.lateral_max_mm, self.lateral_cells + 1) * MM, 12)
-        return WheelsetWear(model, wheel, rail, build.wear_law(scenario), build.life_distance(scenario),
+        return WheelsetWear(model, wheel, rail, _build().wear_law(scenario), _build().life_distance(scenario),
                             shifts=tuple(shifts), lateral_edges=tuple(edges), n_angle=self.angle_cells,
                             transient=self.transient_s, offsets=(self.offset_min_mm * MM, self.offset_max_mm * MM),
                             output_rate=self.output_rate_Hz, footprint=self.footprint,
@@ -307,7 +314,7 @@ class WheelsetSection(BodySection):
         """The wheelset as a long-term body (``run(None, ...)`` starts from the new profile)."""
         from railwear.longterm.wheelset_wear import Wheelset
 
-        if getattr(build.wear_law(scenario), "stateful", False):
+        if getattr(_build().wear_law(scenario), "stateful", False):
             raise ScenarioError(f"wear.law: {scenario.wear.law!r} carries a state per cell, which the wheelset "
                                 "body does not; use it with a body that rolls over its angle (disk_wheel)")
         return Wheelset(self.problem(scenario), seconds=self.seconds_per_sample_s, samples=self.samples,

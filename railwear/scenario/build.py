@@ -178,10 +178,7 @@ def fourier(scenario: Scenario):
 def linear_model(scenario: Scenario, speed):
     """The body's linear model at ``speed`` (m/s) and its wear band (m); a body without one is
     refused naming ``body.kind``."""
-    try:
-        return scenario.body.linear_model(scenario, speed)
-    except NotImplementedError as e:
-        raise ScenarioError(f"body.kind: {e}") from None
+    return scenario.body.linear_model(scenario, speed)
 
 
 @builds("multiplier")
@@ -255,10 +252,7 @@ def direct(scenario: Scenario):
 
 def body(scenario: Scenario, speed=None):
     """The long-term body of ``[body]`` at ``speed`` (m/s, default the service mean)."""
-    try:
-        return scenario.body.build(scenario, speed)
-    except NotImplementedError as e:
-        raise ScenarioError(f"body.kind: {e}") from None
+    return scenario.body.build(scenario, speed)
 
 
 def fitted_h(scenario: Scenario, speeds=None, scales=(0.5, 1.0, 1.5, 2.0), degree=3, bins=16):

@@ -233,3 +233,23 @@ def test_direct_and_stepwise_on_the_time_domain_track_from_the_scenario():
             data["body"].update(wheel_mode_frequencies_hz=[580.0], wheel_mode_masses_kg=[500.0],
                                 wheel_mode_damping_ratios=[0.01])
         railwear.run(_metro(modes))
+
+
+def test_the_schema_defaults_are_the_shipped_metro_sets():
+    """[body] kind = "vehicle_track" and [track] default to METRO's wheel and the shipped support
+    set zhai-2004-no-subgrade, which METRO's track is; written out in the schema (so that it
+    loads without the physics), held equal here, to the bit."""
+    from railwear.scenario.bodies import VehicleTrackSection
+    from railwear.scenario.schema import TrackSection
+    from railwear.track import support_set
+    from railwear.units import KN, MN
+
+    body, track, shipped = VehicleTrackSection(), TrackSection(), support_set("zhai-2004-no-subgrade")
+    assert (body.wheel_inertia_kg_m2, body.sprung_mass_kg, body.primary_stiffness_MN_m * MN,
+            body.primary_damping_kN_s_m * KN) == (METRO.wheel_inertia, METRO.sprung_mass, METRO.primary_stiffness,
+                                                   METRO.primary_damping)
+    assert (track.pad_stiffness_MN_m * MN, track.pad_damping_kN_s_m * KN, track.sleeper_mass_kg,
+            track.ballast_stiffness_MN_m * MN, track.ballast_damping_kN_s_m * KN, track.sleeper_spacing_m) == tuple(
+        shipped.values[k] for k in ("pad_stiffness", "pad_damping", "sleeper_mass", "ballast_stiffness",
+                                    "ballast_damping")) + (shipped.sleeper_spacing,)
+    assert METRO.track.support == shipped.support
