@@ -63,3 +63,15 @@ def test_positions_are_checked():
     model, _ = build.linear_model(sc, build.one_speed(sc))
     with pytest.raises(Exception, match="positions"):
         WheelsOnRail(model, (1.0, 2.0))
+
+
+def test_the_docs_table_is_what_its_script_prints(capsys):
+    """docs/vehicle_track.md's wheelbase table is docs/wheels_on_rail.py's output, row for row."""
+    import runpy
+    from pathlib import Path
+
+    docs = Path(__file__).resolve().parents[2] / "docs"
+    runpy.run_path(str(docs / "wheels_on_rail.py"), run_name="__main__")
+    rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| 0")]
+    page = (docs / "vehicle_track.md").read_text(encoding="utf-8")
+    assert len(rows) == 5 and all(row in page for row in rows)
