@@ -203,7 +203,8 @@ class Fourier(Harmonics):
     ``transfer(ω)``: driver per metre of filtered radius deviation at ``ω`` (rad/s), complex;
     ``steady_driver`` the driver of the round wheel; ``depth_per_driver`` ``c`` (m/s per unit of
     driver); ``wheel_speed`` Ω (rad/s); ``half_angle`` δ (rad); ``speed`` v (m/s) for distances;
-    ``radius`` R0 (m) of the wheel, for wavelengths (``None``: unknown).
+    ``radius`` R0 (m) of the wheel, for wavelengths (``None``: unknown); ``filtered``: the
+    transfer already carries the contact filter (a non-steady contact), so no ``F_n²``.
     """
 
     transfer: Callable
@@ -213,6 +214,7 @@ class Fourier(Harmonics):
     half_angle: float
     speed: float
     radius: float | None = None
+    filtered: bool = False
 
     def __post_init__(self):
         for name in ("depth_per_driver", "wheel_speed", "speed"):
@@ -227,6 +229,8 @@ class Fourier(Harmonics):
         if np.any(n < 1):
             raise ScenarioError("orders must be >= 1")
         H = np.asarray(self.transfer(n * self.wheel_speed), complex)
+        if self.filtered:
+            return -self.depth_per_driver * H
         return -self.depth_per_driver * H * contact_filter(n, self.half_angle) ** 2
 
     @property
@@ -262,7 +266,7 @@ class Fourier(Harmonics):
         else:
             raise ScenarioError(f"driver must be 'law' or 'normal_force', not {driver!r}")
         return cls(transfer, steady, depth_per_driver, omega, model.patch_half_length / model.radius,
-                   model.speed, model.radius)
+                   model.speed, model.radius, bool(getattr(model, "filters_contact", False)))
 
 
 @dataclass(frozen=True)

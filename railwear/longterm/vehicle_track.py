@@ -30,7 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from railwear.contact import contact_constants
+from railwear.contact import contact_constants, hertz_contact
+from railwear.contact.transient import TransientContact
 from railwear.dynamics import DiskWheelModel
 from railwear.errors import ScenarioError
 from railwear.longterm.fourier import Fourier, contact_filter, law_terms, stability_map
@@ -72,12 +73,16 @@ class VehicleTrackModel:
     :func:`~railwear.longterm.fourier.stability_map` take it unchanged. ``positions``: see
     :func:`bay_offsets`. ``wheel_modes``: flexible modes of the wheelset as modal data
     ``(frequency_hz, modal_mass_kg, damping_ratio)``, the modal mass at the contact point; each
-    adds the compliance ``1 / (m_k (ω_k² - ω² + 2iζ_k ω_k ω))`` in series with the rail's."""
+    adds the compliance ``1 / (m_k (ω_k² - ω² + 2iζ_k ω_k ω))`` in series with the rail's.
+    ``contact``: ``"steady"`` (Kalker's steady creep, the perturbations spread evenly over the
+    patch: today's model) or a :class:`~railwear.contact.transient.TransientContact` (the
+    non-steady contact, :meth:`transient_transfer`)."""
 
     wheel: DiskWheelModel
     track: Track
     positions: int | str | float = 8
     wheel_modes: tuple = ()
+    contact: object = "steady"
 
     def __post_init__(self):
         if not isinstance(self.wheel, DiskWheelModel):
@@ -90,6 +95,8 @@ class VehicleTrackModel:
         if not (np.all(np.isfinite(modes)) and np.all(modes[:, :2] > 0) and np.all(modes[:, 2] >= 0)):
             raise ScenarioError("wheel_modes: each mode is (frequency_hz > 0, modal_mass_kg > 0, damping_ratio >= 0)")
         object.__setattr__(self, "_modes", modes)
+        if not (self.contact == "steady" if isinstance(self.contact, str) else isinstance(self.contact, TransientContact)):
+            raise ScenarioError(f"contact: must be 'steady' or a TransientContact, got {self.contact!r}")
         offsets, weights = bay_offsets(self.track, self.positions)
         object.__setattr__(self, "_offsets", offsets)
         object.__setattr__(self, "_weights", weights)
@@ -102,6 +109,12 @@ class VehicleTrackModel:
     static_load = property(lambda self: self.wheel.static_load)
     patch_half_length = property(lambda self: self.wheel.patch_half_length)
     LINEAR_OUTPUTS = DiskWheelModel.LINEAR_OUTPUTS
+
+    @property
+    def filters_contact(self) -> bool:
+        """True when :meth:`transfer` carries the contact filter itself (the transient contact):
+        :meth:`Fourier.disk_wheel` then puts no ``F_n²`` on it."""
+        return not isinstance(self.contact, str)
 
     def steady_creepage(self) -> float:
         """The wheel's steady creepage under its traction torque (the track carries no traction)."""
@@ -153,6 +166,11 @@ class VehicleTrackModel:
         ``angular_frequency`` [rad/s]: ``Σ_j w_j H(ω, d_j)``, complex (units of the output per m)."""
         if output not in self.LINEAR_OUTPUTS:
             raise ScenarioError(f"output: must be one of {self.LINEAR_OUTPUTS}, got {output!r}")
+        if self.filters_contact:
+            return self.transient_transfer(angular_frequency, output)
+        return self._steady_transfer(angular_frequency, output)
+
+    def _steady_transfer(self, angular_frequency, output):
         row = self.LINEAR_OUTPUTS.index(output)
         gu, gr = self.wheel_terms(angular_frequency)
         # The wheel's flexible deflection at the contact lowers the approach as the rail's does.
@@ -162,8 +180,59 @@ class VehicleTrackModel:
         return out if np.ndim(angular_frequency) else out[0]
 
     def contact_force_transfer(self, angular_frequency) -> np.ndarray:
-        """``N̂ / ū`` [N/m], bay-averaged: ``1 / (α_w + 1/k_c + α)`` at each offset."""
-        return self.transfer(angular_frequency, "normal_force")
+        """``N̂ / ū`` [N/m], bay-averaged: ``1 / (α_w + 1/k_c + α)`` at each offset (the vertical
+        dynamics, the same under either contact)."""
+        return self._steady_transfer(angular_frequency, "normal_force")
+
+    def transient_transfer(self, angular_frequency, output="frictional_power", parts=False):
+        """Transfer per unit amplitude ``û`` of the (unfiltered) harmonic under the non-steady
+        ``contact``, at ``ω = n Ω`` [rad/s], ``κ = ω a / (Ω R0) = n a / R0``. With the
+        :class:`~railwear.contact.transient.TransientContact` factors ``T_u, T_m`` (creep force to
+        uniform and to material creepage) and ``W_u, W_m`` (frictional power as worn off the
+        material), ``S = sinc κ`` (the normal problem's patch average, as the steady model), and
+        from the kernel's linearisation ``A11 = ∂Ω'/∂Ω``, ``c_ξ = ∂ξ/∂Ω``, ``D_ξ = ∂ξ/∂ū``, the
+        lever ``l`` and the load's ``Ω'`` per newton ``g``:
+
+            Ω̂ (iω - A11 T_u) = (A11 / c_ξ) D_ξ T_m + S (l + g N̂/ū)
+            π̂ = b (W_u c_ξ Ω̂ + W_m D_ξ) + a S² N̂/ū,   F̂ = f (T_u c_ξ Ω̂ + T_m D_ξ) + F_N S N̂/ū
+
+        (``a, b`` of :meth:`power_sensitivities`, ``f = ∂F/∂ξ``, ``F_N = ∂F/∂N``; the load's part
+        kept quasi-steady). With every factor 1 and ``S = 1`` this is the steady transfer
+        (:meth:`power_load_split`). Outputs: ``frictional_power`` and ``normal_force``
+        (``S² N̂/ū``) as the wear sees them, ``creep_force``; ``creepage`` is refused (a law
+        driven by the sliding speed has no deposit rule here). ``parts``: the power's
+        ``rolling_radius``, ``rotation`` and ``normal_force`` parts instead."""
+        if not self.filters_contact:
+            raise ScenarioError("contact: transient_transfer needs a TransientContact")
+        if output == "creepage":
+            raise ScenarioError("contact: the transient contact carries the frictional power and the normal force; "
+                                "a wear law driven by the sliding speed (archard) needs contact = 'steady'")
+        A, B, c, d = self._linear
+        out = self.LINEAR_OUTPUTS
+        n, xi, fx = out.index("normal_force"), out.index("creepage"), out.index("creep_force")
+        omega = np.atleast_1d(np.asarray(angular_frequency, float))
+        kappa = omega * self.patch_half_length / (self.speed * (1 + self.steady_creepage()))
+        f = self.contact.factors(kappa)
+        filt = contact_filter(kappa, 1.0)
+        load = self._steady_transfer(omega, "normal_force")
+        a_p, b_p, d_xi = self.power_sensitivities()
+        c_xi, a11 = c[xi, 1], A[1, 1]
+        spin = a11 / c_xi  # Ω' per unit creepage
+        per_load = A[1, 2] / c[n, 2]
+        lever = B[1] - per_load * d[n] - spin * d_xi
+        rotation = (spin * d_xi * f["force_material"] + filt * (lever + per_load * load)) / (
+            1j * omega - a11 * f["force_uniform"])
+        if parts:
+            return {"rolling_radius": b_p * f["wear_material"] * d_xi, "rotation": b_p * f["wear_uniform"] * c_xi * rotation,
+                    "normal_force": a_p * filt**2 * load}
+        if output == "frictional_power":
+            res = b_p * (f["wear_uniform"] * c_xi * rotation + f["wear_material"] * d_xi) + a_p * filt**2 * load
+        elif output == "normal_force":
+            res = filt**2 * load
+        else:
+            slope, per_n = c[fx, 1] / c_xi, c[fx, 2] / c[n, 2]
+            res = slope * (f["force_uniform"] * c_xi * rotation + f["force_material"] * d_xi) + per_n * filt * load
+        return res if np.ndim(angular_frequency) else res[0]
 
     def power_sensitivities(self, terms=None):
         """``(a, b, D_ξ)`` of the linearised frictional power ``π̂ = a N̂ + b ξ̂``: ``a = ∂π/∂N``
@@ -189,6 +258,12 @@ class VehicleTrackModel:
         speed), ``"rotation"`` ``b (ξ̂/ū - D_ξ)`` (the wheel's speed following the creep force),
         ``"normal_force"`` ``a N̂/ū``. They sum to ``transfer(ω, "frictional_power")``; with a
         law's ``terms`` (:meth:`power_sensitivities`) the same split of its driver's transfer."""
+        if self.filters_contact:
+            if terms is not None and set(terms) - {"frictional_power"}:
+                raise ScenarioError("contact: the transient contact's parts are those of the frictional power")
+            weight = 1.0 if terms is None else terms["frictional_power"]
+            return {k: weight * np.asarray(v, complex) for k, v in
+                    self.transient_transfer(angular_frequency, parts=True).items()}
         a, b, d_xi = self.power_sensitivities(terms)
         creepage = np.asarray(self.transfer(angular_frequency, "creepage"), complex)
         normal = np.asarray(self.transfer(angular_frequency, "normal_force"), complex)
@@ -242,47 +317,49 @@ def coupled_resonance(model: VehicleTrackModel, low, high, points=4001) -> float
 
 
 def vehicle_track_fourier(wheel, track, speed, law, band_width, positions=8, driver="law",
-                          wheel_modes=()) -> Fourier:
+                          wheel_modes=(), contact="steady") -> Fourier:
     """:class:`Fourier` rates of ``wheel`` (a rigid-rail :class:`DiskWheelModel`, with
     ``wheel_modes``) on ``track`` at ``speed`` (m/s), as :meth:`Fourier.disk_wheel` gives them for
-    the disk wheel."""
-    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions, wheel_modes)
+    the disk wheel; ``contact`` as :class:`VehicleTrackModel` takes it."""
+    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions, wheel_modes, contact)
     return Fourier.disk_wheel(model, law, band_width, driver)
 
 
-def growth_parts(wheel, track, speed, law, band_width, orders, positions=8, wheel_modes=()) -> dict:
+def growth_parts(wheel, track, speed, law, band_width, orders, positions=8, wheel_modes=(), contact="steady") -> dict:
     """Growth rates ``Re λ_n`` [1/s] of ``wheel`` on ``track`` at ``speed`` (m/s) under the wear
     law ``law`` (with a linearisation), split as :meth:`VehicleTrackModel.frictional_power_parts`
     splits the transfer of the law's driver: ``"rolling_radius"``, ``"rotation"``,
     ``"normal_force"`` (each ``-c Re H_part F_n²``, summing to ``"total"``, which is
     :meth:`Fourier.rates`), with ``"contact_filter"``
     ``F_n²``, ``"passive_bound"`` (the largest rate any passive vertical wheel-side mode could give,
-    from :meth:`VehicleTrackModel.passive_bound`), ``"frequency"`` ``n Ω`` [Hz] and ``"order"``."""
-    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions, wheel_modes)
+    from :meth:`VehicleTrackModel.passive_bound`), ``"frequency"`` ``n Ω`` [Hz] and ``"order"``.
+    Under a transient ``contact`` the parts carry their own filters (``"contact_filter"`` is 1)
+    and the passive bound is not given (NaN)."""
+    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions, wheel_modes, contact)
     fourier = Fourier.disk_wheel(model, law, band_width)
     _, terms = law_terms(model, law, band_width)
     n = np.atleast_1d(np.asarray(orders, float))
     if np.any(n < 1):
         raise ScenarioError("orders must be >= 1")
     omega = n * fourier.wheel_speed
-    filt = contact_filter(n, fourier.half_angle) ** 2
+    filt = np.ones_like(n) if model.filters_contact else contact_filter(n, fourier.half_angle) ** 2
     scale = -fourier.depth_per_driver * filt
     out = {name: scale * np.real(part) for name, part in model.frictional_power_parts(omega, terms).items()}
     out["total"] = fourier.rates(n).real
     out["contact_filter"] = filt
-    out["passive_bound"] = scale * model.passive_bound(omega, terms)
+    out["passive_bound"] = np.full_like(n, np.nan) if model.filters_contact else scale * model.passive_bound(omega, terms)
     out["frequency"] = omega / (2 * np.pi)
     out["order"] = n
     return out
 
 
 def growth_map(wheel, track, speeds, orders, law, band_width, positions=8, driver="law",
-               wheel_modes=()):
+               wheel_modes=(), contact="steady"):
     """:func:`stability_map` (growth per km over speed × order) of ``wheel`` on ``track``, with the
     rail receptance evaluated once per bay offset for every speed's frequencies ``n Ω``."""
     speeds = np.atleast_1d(np.asarray(speeds, float))
     n = np.asarray(np.atleast_1d(orders), float)
-    models = {v: VehicleTrackModel(dataclasses.replace(wheel, speed=float(v)), track, positions, wheel_modes)
+    models = {v: VehicleTrackModel(dataclasses.replace(wheel, speed=float(v)), track, positions, wheel_modes, contact)
               for v in speeds}
     omegas = [n * (v * (1 + m.steady_creepage()) / m.radius) for v, m in models.items()]
     first = next(iter(models.values()))
@@ -335,20 +412,33 @@ class VehicleCase:
             traction_torque=self.traction_coefficient * self.static_load * radius,
             patch_half_length=constants["patch_half_length"])
 
-    def fourier(self, speed, law, positions=8, driver="law") -> Fourier:
-        """:func:`vehicle_track_fourier` of this case at ``speed`` (m/s)."""
-        return vehicle_track_fourier(self.wheel(speed), self.track, speed, law, self.band_width, positions, driver,
-                                     self.wheel_modes)
+    def transient_contact(self, theory="halfspace") -> TransientContact:
+        """The non-steady contact of this case's Hertz patch (its ``a / b``) under ``theory``."""
+        patch = hertz_contact(self.static_load, 1 / self.diameter, 1 / (2 * self.rail_head_radius),
+                              self.youngs_modulus, self.poisson)
+        return TransientContact(aspect=round(float(patch.a / patch.b), 4), theory=theory, poisson=self.poisson)
 
-    def growth_parts(self, speed, orders, law, positions=8) -> dict:
+    def _contact(self, contact):
+        """``"steady"``, a :class:`TransientContact`, or ``"transient"`` / ``"simplified"`` for
+        :meth:`transient_contact` of this case (half-space or simplified theory)."""
+        if isinstance(contact, str) and contact in ("transient", "simplified"):
+            return self.transient_contact("halfspace" if contact == "transient" else "simplified")
+        return contact
+
+    def fourier(self, speed, law, positions=8, driver="law", contact="steady") -> Fourier:
+        """:func:`vehicle_track_fourier` of this case at ``speed`` (m/s); ``contact`` see :meth:`_contact`."""
+        return vehicle_track_fourier(self.wheel(speed), self.track, speed, law, self.band_width, positions, driver,
+                                     self.wheel_modes, self._contact(contact))
+
+    def growth_parts(self, speed, orders, law, positions=8, contact="steady") -> dict:
         """:func:`growth_parts` of this case at ``speed`` (m/s)."""
         return growth_parts(self.wheel(speed), self.track, speed, law, self.band_width, orders, positions,
-                            self.wheel_modes)
+                            self.wheel_modes, self._contact(contact))
 
-    def growth_map(self, speeds, orders, law, positions=8, driver="law"):
+    def growth_map(self, speeds, orders, law, positions=8, driver="law", contact="steady"):
         """:func:`growth_map` of this case over ``speeds`` (m/s) and ``orders``."""
         return growth_map(self.wheel(speeds[0]), self.track, speeds, orders, law, self.band_width, positions, driver,
-                          self.wheel_modes)
+                          self.wheel_modes, self._contact(contact))
 
 
 # Metro motor car, 14 t axle load, on ballasted track (sources in docs/vehicle_track.md).
@@ -439,6 +529,8 @@ class WheelsOnRail:
         m = self.model
         if output not in m.LINEAR_OUTPUTS:
             raise ScenarioError(f"output: must be one of {m.LINEAR_OUTPUTS}, got {output!r}")
+        if m.filters_contact:
+            raise ScenarioError("contact: several wheels on one rail take the steady contact for now")
         row, normal = m.LINEAR_OUTPUTS.index(output), m.LINEAR_OUTPUTS.index("normal_force")
         gu, gr = m.wheel_terms(angular_frequency)
         A = self.rail_matrix(angular_frequency)
