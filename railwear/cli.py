@@ -674,6 +674,57 @@ def plan_policies(
     typer.echo(f"wrote {', '.join(str(p) for p in paths)}")
 
 
+@app.command("load")
+def wheel_load(
+    scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name with a vehicle_track body "
+                                                           "(default metro)")] = None,
+    wheel: Annotated[Optional[Path], typer.Option("--wheel", help="a measured wheel: CSV of angle and radius deviation "
+                                                                  "(as railwear forecast reads it)")] = None,
+    result: Annotated[Optional[Path], typer.Option("--result", help="a result.nc of railwear run: its wheel at the end "
+                                                                    "of the run (default: the scenario's [initial] wheel)")] = None,
+    speeds: Annotated[str, typer.Option(help="speeds in km/h, A:B:STEP or v1,v2,...")] = "40:120:10",
+    revolutions: Annotated[int, typer.Option(help="wheel revolutions recorded at each speed (1 to 1000)")] = 8,
+    transient_s: Annotated[float, typer.Option(help="seconds run before the record, whole revolutions (0 to 60)")] = 1.0,
+    angle_unit: Annotated[Optional[str], typer.Option(help="deg or rad, for a column named just 'angle'")] = None,
+    deviation_unit: Annotated[Optional[str], typer.Option(help="um, mm or m, for a column named just 'deviation'")] = None,
+    nominal_diameter: Annotated[Optional[str], typer.Option(help="nominal wheel diameter with its unit (840mm), for a "
+                                                                 "file of absolute radius_* or diameter_* columns")] = None,
+    output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-load"),
+    figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
+    sets: Sets = [],
+    unsets: Unsets = [],
+    fmt: Format = "png",
+    dpi: Dpi = 120,
+):
+    """The vertical wheel-rail force a wheel-impact-load detector sees: peak, least force, contact
+    loss and spectrum per speed on the time-domain track, against published detector thresholds;
+    DIR/load.nc, load.txt, load.csv, load-peak.png, load-trace.png."""
+    from railwear.maintenance import impact
+
+    v = _parse_range(speeds, "--speeds")
+    low, high = impact.SPEED_KMH
+    if v.size > 100 or not all(low <= x <= high for x in v):
+        _fail(f"--speeds must be 1 to 100 speeds in [{low:g}, {high:g}] km/h, got {speeds}", 2)
+    _option(revolutions, "--revolutions", 1, 1000)
+    _option(transient_s, "--transient-s", 0, 60)
+    _figure_options(fmt, dpi)
+    try:
+        nominal = None
+        if nominal_diameter is not None:
+            from railwear.forecast import parse_length
+
+            nominal = parse_length(nominal_diameter, "--nominal-diameter", 4.0)
+        _output(output)
+        with _Warnings(), _Progress("railwear load") as progress:
+            ds = impact.wheel_load(_scenario(scenario, sets, unsets), v, wheel, result, revolutions, transient_s,
+                                   angle_unit, deviation_unit, nominal, progress=progress)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    paths = impact.write(ds, output, fmt, dpi, figures)
+    typer.echo(impact.report(ds), nl=False)
+    typer.echo(f"wrote {', '.join(str(p) for p in paths)}")
+
+
 @app.command("hunting-map")
 def hunting_map(
     scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name ([wheelset], [wheel], [contact])")] = None,
