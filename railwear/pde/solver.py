@@ -13,6 +13,13 @@ rows). Around that:
   :class:`~railwear.errors.IllPosedError`;
 - depth limit: a row stops where its most worn spot has lost ``depth_limit`` (m);
 - a checkpoint after every interval, from which a resumed run is bit for bit the uninterrupted one.
+
+On the compiled path the rows of a batch are independent: a row that fails its Richardson check
+or its guard takes the interval again alone (the others keep their result), and the ETDRK4
+weights are kept per row and step count, so every row of a batch is bit for bit the solve of that
+row alone, and a batch costs at most what its rows cost apart. Two things stay shared: the guard's
+blow-up bound (10⁶ times the largest start amplitude of the batch, the same for rows that start
+alike) and the batch's stop on an ill-posed row.
 """
 
 import hashlib
@@ -24,9 +31,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from railwear.errors import IllPosedError, NumericalInstabilityError, ResolutionWarning, ScenarioError
-from railwear.pde.etdrk4 import OK, advance_compiled, advance_python, etdrk4_coefficients
+from railwear.pde.etdrk4 import OK, ETDCoefficients, advance_compiled, advance_python, etdrk4_coefficients
 
 TAIL_GROWTH = 1e3  # growth of the top of the spectrum, over its start, that counts as ill-posed
+_FIELDS = ("E", "E2", "Q", "f1", "f2", "f3")  # the ETDRK4 weights kept per row
 
 
 @dataclass(frozen=True)
@@ -198,44 +206,76 @@ class _Loop:
         self.active = np.ones(len(eq.speeds), dtype=bool)
         self.stop_time = np.full(len(eq.speeds), np.nan)
         self.saved, self.times = [v.copy()], [0.0]
-        self.halvings = self.intervals = 0
+        self.halvings = np.zeros(len(eq.speeds), dtype=np.int64)  # per row
+        self.intervals = 0
 
-    def restabilise(self, v, S=None):
-        """Set ``S`` per row (given, fixed, or the largest slope met at ``v``) and drop the weights."""
+    def restabilise(self, v, S=None, rows=None):
+        """Set ``S`` per row (given, fixed, or the largest slope met at ``v``) and drop the weights;
+        with ``rows`` (a mask) only those rows change."""
         if S is not None:
             S = np.asarray(S, float)
         elif self.solver.stabilisation is not None:
             S = np.full(len(self.eq.speeds), float(self.solver.stabilisation))
         else:
             S = np.maximum(self.eq.max_slope(v), 0.0)
+        if rows is None:
+            self.weights = {}
+        else:
+            S = np.where(rows, S, self.S)
+            self.weights = {key: w for key, w in self.weights.items() if not rows[key[0]]}
+            for _, held in self.slots.values():
+                held[rows] = 0
         self.S = S
         self.L = self.eq.linear(S)
         self.terms = tuple(map(np.ascontiguousarray, self.eq.compiled_terms(S))) if self.eq.compiled else None
         self.multipliers = (np.ascontiguousarray(self.eq.m_in), np.ascontiguousarray(self.eq.m_out))
-        self.weights = {}
+        if rows is None:
+            self.slots = {}
 
     def restore(self, c):
-        self.intervals, self.steps, self.halvings = c.intervals, c.steps.copy(), c.halvings
+        self.intervals, self.steps = c.intervals, c.steps.copy()
+        self.halvings = np.full(len(self.steps), int(c.halvings))
         self.v, self.active, self.stop_time = c.spectra.copy(), c.active.copy(), c.stop_time.copy()
         self.saved, self.times = list(c.saved), list(c.times)
         self.tail_peak = c.tail_peak.copy()
         self.restabilise(self.v, c.stabilisation)
 
     def checkpoint(self):
-        return EvolutionCheckpoint(self.fingerprint, self.intervals, self.steps.copy(), self.halvings,
+        # The checkpoint's format holds one count of halvings: the largest of the rows' (a
+        # resumed run gives it to every row, so it can only stop sooner at max_halvings).
+        return EvolutionCheckpoint(self.fingerprint, self.intervals, self.steps.copy(), int(self.halvings.max()),
                                    self.S.copy(), self.v.copy(), self.active.copy(),
                                    self.stop_time.copy(), np.array(self.saved), np.array(self.times),
                                    self.tail_peak.copy())
 
-    def _weights(self, row_steps):
-        key = tuple(int(m) for m in row_steps)
-        if key not in self.weights:
-            self.weights[key] = etdrk4_coefficients(self.L, self.interval / row_steps)
-        return self.weights[key]
+    def _weights(self, row_steps, rows, slot):
+        """The ETDRK4 weights with row ``b`` in ``row_steps[b]`` steps per interval, right for the
+        ``rows`` (a mask). Each row's weights are computed once per step count (and ``S``) and
+        copied into the arrays of ``slot`` (one set for the full and one for the half steps)."""
+        if slot not in self.slots:
+            shape, dtype = self.L.shape, (float if not np.iscomplexobj(self.L) or not np.any(self.L.imag) else complex)
+            self.slots[slot] = (ETDCoefficients(np.ones(shape[0]), *(np.zeros(shape, dtype) for _ in range(6))),
+                                np.zeros(shape[0], np.int64))
+        co, held = self.slots[slot]
+        change = np.flatnonzero(rows & (held != row_steps))
+        missing = np.array([b for b in change if (b, int(row_steps[b])) not in self.weights], dtype=np.int64)
+        odd = np.any(self.L[missing].imag != 0, axis=1) if np.iscomplexobj(self.L) else np.zeros(missing.size, bool)
+        for group in (missing[~odd], missing[odd]):  # a row without drift takes the real weights, as alone
+            if group.size:
+                new = etdrk4_coefficients(self.L[group], self.interval / row_steps[group])
+                for i, b in enumerate(group):
+                    self.weights[b, int(row_steps[b])] = tuple(getattr(new, f)[i] for f in _FIELDS)
+        for b in change:
+            for name, value in zip(_FIELDS, self.weights[b, int(row_steps[b])]):
+                getattr(co, name)[b] = value
+            co.dt[b] = self.interval / row_steps[b]
+            held[b] = row_steps[b]
+        return co
 
-    def _advance(self, v, row_steps, t0, active, stop_time):
+    def _advance(self, v, row_steps, t0, active, stop_time, slot):
         """Advance ``v`` in place over one interval in ``row_steps`` per row; returns the status."""
-        co = self._weights(row_steps)
+        rows = active if self.eq.compiled else np.ones_like(active)
+        co = self._weights(row_steps, rows, slot)
         if self.eq.compiled:
             status, _ = advance_compiled(
                 v, self.eq.n, co.E, co.E2, co.Q, co.f1, co.f2, co.f3, *self.multipliers,
@@ -245,42 +285,67 @@ class _Loop:
                                        active, stop_time, self.u_start, self.depth, self.blowup)
         return status
 
+    def _attempt(self, v_start, stop_start, rows, row_steps, t0, slot):
+        """The ``rows`` (a mask) over the interval from ``v_start``: ``(v, active, stop_time,
+        status per row)``. Where the batch's guard fails, the rows are taken again one by one to
+        find which failed (compiled path; the Python loop's status is every row's)."""
+        v, active, stop = v_start.copy(), rows.copy(), stop_start.copy()
+        status = self._advance(v, row_steps, t0, active, stop, slot)
+        out = np.full(len(rows), OK)
+        if status == OK:
+            return v, active, stop, out
+        if not self.eq.compiled or np.count_nonzero(rows) == 1:
+            out[rows] = status
+            return v, active, stop, out
+        for b in np.flatnonzero(rows):
+            one = np.zeros_like(rows)
+            one[b] = True
+            vb, ab, sb = v_start.copy(), one.copy(), stop_start.copy()
+            out[b] = self._advance(vb, row_steps, t0, ab, sb, slot)
+            v[b], active[b], stop[b] = vb[b], ab[b], sb[b]
+        return v, active, stop, out
+
     def step_interval(self):
-        """Take the next output interval; ``False`` if it has to be taken again (steps changed)."""
+        """Take the next output interval, each row again with other steps until it passes its
+        checks (only the rows that failed); ``True`` when done."""
         eq, n, t0 = self.eq, self.eq.n, self.intervals * self.interval
         v_start, active_start, stop_start = self.v.copy(), self.active.copy(), self.stop_time.copy()
-        status = self._advance(self.v, self.steps, t0, self.active, self.stop_time)
-        if status == OK and self.rtol is not None:
-            half = self.steps // 2
-            v_half, active_half, stop_half = v_start.copy(), active_start.copy(), stop_start.copy()
-            status_half = self._advance(v_half, half, t0, active_half, stop_half)
-            error = _richardson_error(self.v, v_half, n)
-            refine = active_start & ((error > self.local_tolerance) | (status_half != OK))
+        todo = active_start.copy()
+        while np.any(todo):
+            v, active, stop, status = self._attempt(v_start, stop_start, todo, self.steps, t0, "full")
+            failed = todo & (status != OK)
+            ok = todo & ~failed
+            refine = coarsen = np.zeros_like(todo)
+            if self.rtol is not None and np.any(ok):
+                v_half, _, _, status_half = self._attempt(v_start, stop_start, ok, self.steps // 2, t0, "half")
+                error = np.zeros(len(todo))
+                error[ok] = _richardson_error(v[ok], v_half[ok], n)
+                refine = ok & ((error > self.local_tolerance) | (status_half != OK))
+                coarsen = ok & ~refine & (error < self.local_tolerance / 32) & (self.steps % 4 == 0)
+            if not eq.compiled:  # the Python loop: one step count for all rows, all retake together
+                if np.any(failed) or np.any(refine):
+                    failed, refine = (todo, refine & False) if np.any(failed) else (failed, todo)
+                coarsen = np.full_like(todo, bool(np.any(ok)) and bool(np.all(coarsen[ok])))
+            accept = todo & ~failed & ~refine
+            self.v[accept], self.active[accept], self.stop_time[accept] = v[accept], active[accept], stop[accept]
+            self.steps = np.where(coarsen, self.steps // 2, self.steps)
             if np.any(refine):
-                self.v, self.active, self.stop_time = v_start, active_start, stop_start
                 self.steps = np.where(refine, 2 * self.steps, self.steps)
-                if not eq.compiled:  # the Python loop takes one step count for all rows
-                    self.steps[:] = self.steps.max()
                 if self.steps.max() > 2**24:
                     raise NumericalInstabilityError(
                         f"the step-size control cannot meet rtol = {self.rtol:g} near T = {t0:.4g}",
-                        last_good=np.fft.irfft(self.v, n, axis=-1), last_time=t0)
-                return False
-            coarsen = (error < self.local_tolerance / 32) & (self.steps % 4 == 0)
-            if eq.compiled or np.all(coarsen):
-                self.steps = np.where(coarsen, self.steps // 2, self.steps)
-        if status != OK:
-            self.v, self.active = v_start, active_start
-            self.stop_time[self.active] = np.nan
-            self.halvings += 1
-            if self.halvings > self.solver.max_halvings:
-                raise NumericalInstabilityError(
-                    f"the solution blew up near T = {t0:.4g} even with the step cut to "
-                    f"{self.interval / self.steps.max():.3g}", last_good=np.fft.irfft(self.v, n, axis=-1),
-                    last_time=t0)
-            self.steps *= 2
-            self.restabilise(self.v)
-            return False
+                        last_good=np.fft.irfft(v_start, n, axis=-1), last_time=t0)
+            if np.any(failed):
+                self.halvings[failed] += 1
+                if np.any(self.halvings > self.solver.max_halvings):
+                    raise NumericalInstabilityError(
+                        f"the solution blew up near T = {t0:.4g} even with the step cut to "
+                        f"{self.interval / self.steps[failed].max():.3g}",
+                        last_good=np.fft.irfft(v_start, n, axis=-1), last_time=t0)
+                again = failed if eq.compiled else np.ones_like(failed)
+                self.steps = np.where(again, 2 * self.steps, self.steps)
+                self.restabilise(v_start, rows=again if eq.compiled else None)
+            todo = failed | refine
         tail, amp = _tail(eq, self.v)
         bad = (tail > self.solver.tail_tolerance * amp) & (tail > TAIL_GROWTH * np.maximum(self.tail_ref, 1e-300))
         self.tail_peak = np.maximum(self.tail_peak, tail / np.maximum(amp, 1e-300))
