@@ -482,6 +482,25 @@ def track(
     typer.echo(f"wrote {output / 'track.nc'}")
 
 
+def _executor(workers, scheduler, scheduler_file):
+    """The sweep's executor the options ask for: a Dask cluster, local worker processes, or None
+    (the command's own default)."""
+    from railwear import sweep as sweeps
+
+    if scheduler or scheduler_file:
+        try:
+            return sweeps.DaskExecutor(scheduler, scheduler_file)
+        except ImportError:
+            _fail("--scheduler needs Dask: pip install 'railwear[cluster]'", 2)
+        except OSError as e:
+            _fail(f"--scheduler: cannot reach the Dask scheduler: {e}", 2)
+    if workers is not None:
+        if workers < 1:
+            _fail("--workers must be at least 1", 2)
+        return sweeps.LocalExecutor(workers)
+    return None
+
+
 @app.command()
 def sweep(
     scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name")] = None,
@@ -512,18 +531,7 @@ def sweep(
         varies = [sweeps.parse_vary(v) for v in vary]
         for assignment in sweeps.design(varies, samples, seed)[1][:1]:
             sweeps._assign(base, assignment)  # a field that is none fails here, before any worker starts
-        executor = None
-        if scheduler or scheduler_file:
-            try:
-                executor = sweeps.DaskExecutor(scheduler, scheduler_file)
-            except ImportError:
-                _fail("--scheduler needs Dask: pip install 'railwear[cluster]'", 2)
-            except OSError as e:
-                _fail(f"--scheduler: cannot reach the Dask scheduler: {e}", 2)
-        elif workers is not None:
-            if workers < 1:
-                _fail("--workers must be at least 1", 2)
-            executor = sweeps.LocalExecutor(workers)
+        executor = _executor(workers, scheduler, scheduler_file)
         with _Warnings(), _Progress(f"railwear sweep {base.name}") as progress:
             ds = sweeps.run_sweep(base, varies, output, samples, seed, executor, progress,
                                   batch="auto" if batch else False)
@@ -722,6 +730,57 @@ def wheel_load(
         _fail(str(e), 2)
     paths = impact.write(ds, output, fmt, dpi, figures)
     typer.echo(impact.report(ds), nl=False)
+    typer.echo(f"wrote {', '.join(str(p) for p in paths)}")
+
+
+@app.command("fleet")
+def fleet_forecast(
+    scenario: Annotated[str, typer.Argument(help="scenario file or built-in name whose body gives a linear model "
+                                                 "(the Fourier technique), e.g. metro")],
+    fleet: Annotated[str, typer.Argument(help="the fleet's manifest CSV (one row per measured line: wheel_id, car, "
+                                              "axle, side, diameter_mm, mileage_km, date, file; docs/maintenance.md), "
+                                              "or the built-in example-fleet")],
+    policy: Annotated[str, typer.Option(help="policy TOML file or built-in name (metro-interval, metro-condition, "
+                                             "metro-noise)")] = "metro-condition",
+    daily_km: Annotated[float, typer.Option(help="km a wheel runs a day: the action's date")] = 500.0,
+    growth: Annotated[str, typer.Option(help="multipliers on the polygon growth rates, v1,v2,... or A:B:STEP: the band "
+                                             "of each distance (no field growth rate of a polygon is published)")] = "0.5,1,2",
+    horizon_km: Annotated[float, typer.Option(help="look this far ahead of each measurement")] = 1e6,
+    diameter_step_mm: Annotated[float, typer.Option(help="rate tables every this many mm of diameter, interpolated "
+                                                         "between")] = 5.0,
+    workers: Annotated[Optional[int], typer.Option(help="local worker processes (default: none, this process)")] = None,
+    scheduler: Annotated[Optional[str], typer.Option(help="Dask scheduler address, tcp://HOST:PORT")] = None,
+    scheduler_file: Annotated[Optional[Path], typer.Option(help="Dask scheduler file")] = None,
+    output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-fleet"),
+    figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
+    sets: Sets = [],
+    fmt: Format = "png",
+    dpi: Dpi = 120,
+):
+    """A fleet of measured wheels under a maintenance policy: per wheel its state now, the distance to
+    each trigger with its band, the action and its date; DIR/fleet.nc, fleet.txt, wheels.csv, fleet-*.png."""
+    from railwear.maintenance import fleet as fleets
+
+    _option(daily_km, "--daily-km", 1, 1e5)
+    _option(horizon_km, "--horizon-km", 1e3, 1e8)
+    _option(diameter_step_mm, "--diameter-step-mm", 0.1, 100)
+    _figure_options(fmt, dpi)
+    multipliers = _parse_range(growth, "--growth")
+    executor = None
+    try:
+        _output(output)
+        sc = _scenario(scenario, sets)
+        executor = _executor(workers, scheduler, scheduler_file)
+        with _Warnings(), _Progress("railwear fleet") as progress:
+            ds = fleets.fleet(sc, fleet, policy, daily_km, multipliers, horizon_km, diameter_step_mm,
+                              executor=executor, progress=progress)
+    except ScenarioError as e:
+        _fail(str(e), 2)
+    finally:
+        if executor is not None:
+            executor.close()
+    paths = fleets.write(ds, output, fmt, dpi, figures)
+    typer.echo(fleets.report(ds), nl=False)
     typer.echo(f"wrote {', '.join(str(p) for p in paths)}")
 
 
