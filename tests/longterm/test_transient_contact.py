@@ -119,7 +119,7 @@ def test_default_contact_is_steady():
 
 def test_rolling_radius_wear_is_not_filtered_under_braking():
     """The finding: under braking the rolling-radius part of the growth, which the steady model
-    cuts by sinc² (0.42 of order 8's at order 80), keeps 0.7-1.0 of it under the transient
+    cuts by sinc² (0.63 of order 8's at order 80), keeps 0.7-1.0 of it under the transient
     contact: the non-steady contact does not filter short wavelengths."""
     steady = BRAKING.growth_parts(V, [8, 80], EnergyLaw())["rolling_radius"]
     transient = BRAKING.growth_parts(V, [8, 80], EnergyLaw(), contact="transient")
