@@ -34,33 +34,79 @@ def _rows(ds):
             for i in range(ds.sizes[dim])]
 
 
+def tick_number(value, span):
+    """``value`` as a tick or caption number: ``:g``, with a value under a millionth of ``span``
+    (the axis's extent, in the same unit) read as zero, so round-off never shows as "-0" or "-3e-15"."""
+    value = 0.0 if abs(value) < 1e-6 * abs(span) else float(value)
+    return f"{value + 0.0:g}"
+
+
 def _title(ds, what):
     return f"{ds.attrs.get('scenario_name', 'railwear')}: {what}"
 
 
+BREAK = 3.0  # the radius panel is broken in two when the mean radius falls by more than this many shape spans
+
+
 def profiles(ds):
     """Initial and final radius deviation over the angle (paper Figs 9 and 10): ``u`` itself
-    (the mean radius falls) and the shape ``u - mean(u)`` on common axes (the pattern)."""
+    (the mean radius falls) and the shape ``u - mean(u)`` on common axes (the pattern). Where the
+    mean radius falls by more than :data:`BREAK` times the shape's extent, the ``u`` panel's axis is
+    broken into a band round the start and one round the end, of equal height in µm, so the shape
+    is seen in both and the fall is written across the break."""
     from matplotlib.lines import Line2D
 
-    fig, (top, shape) = _figure(7, 6.5, rows=2)
     deg = np.degrees(ds.angle.values)
     rows = _rows(ds)
-    drops = []
-    for i, (label, d) in enumerate(rows):
+    curves = [[d.u.isel(time=k).values / UM for k in (0, -1)] for _, d in rows]
+    drops = [float(np.mean(end) - np.mean(start)) for start, end in curves]
+    starts = np.concatenate([c[0] for c in curves])
+    ends = np.concatenate([c[1] for c in curves])
+    shape_span = max(max(np.ptp(c - c.mean()) for c in pair) for pair in curves) or 1.0
+    broken = max(abs(x) for x in drops) > BREAK * shape_span
+    fig = _plain_figure(7, 7 if broken else 6.5)
+    if broken:
+        top_start, top_end, shape = fig.subplots(3, 1, height_ratios=[1, 1, 2.1])
+        fig.get_layout_engine().set(h_pad=0.02, hspace=0.0)
+        bands = [top_start, top_end]
+        span = max(np.ptp(starts), np.ptp(ends), shape_span)
+        height = 1.7 * span  # one µm scale in both bands; the curves in the lower part, the legend above
+        for ax, values in zip(bands, (starts, ends)):
+            ax.set_ylim(values.min() - 0.08 * span, values.min() - 0.08 * span + height)
+        top_start.spines["bottom"].set_visible(False)
+        top_end.spines["top"].set_visible(False)
+        top_start.tick_params(axis="x", bottom=False, labelbottom=False)
+        cut = dict(marker=[(-1, -0.6), (1, 0.6)], markersize=10, linestyle="none", color="k", mec="k", mew=1,
+                   clip_on=False)
+        top_start.plot([0, 1], [0, 0], transform=top_start.transAxes, **cut)
+        top_end.plot([0, 1], [1, 1], transform=top_end.transAxes, **cut)
+    else:
+        top, shape = fig.subplots(2, 1)
+        bands = [top]
+    for i, ((label, _), (start, end)) in enumerate(zip(rows, curves)):
         colour = f"C{i % 10}"
-        for k, style, width, when in ((0, "--", 1.0, "start"), (-1, "-", 1.5, "end")):
-            u = d.u.isel(time=k).values / UM
+        for u, style, width, when in ((start, "--", 1.0, "start"), (end, "-", 1.5, "end")):
             name = f"{label}, {when}" if when == "end" or i == 0 or len(rows) < 5 else None
-            top.plot(deg, u, color=colour, ls=style, lw=width, label=name)
+            for ax in bands:
+                ax.plot(deg, u, color=colour, ls=style, lw=width, label=name if ax is bands[-1] else None)
             shape.plot(deg, u - u.mean(), color=colour, ls=style, lw=width)
-        drops.append(float(d.u.isel(time=-1).mean() - d.u.isel(time=0).mean()) / UM)
     drop = f"{drops[0]:+.0f} µm" if len(drops) == 1 else f"{min(drops):+.0f} to {max(drops):+.0f} µm"
-    top.set(xlabel="angle (deg)", ylabel="radius deviation u (µm)", xlim=(0, 360),
-            title=_title(ds, f"radius at the start and the end (mean radius {drop})"))
+    for ax in bands:
+        ax.set(xlim=(0, 360))
+    bands[-1].set_xlabel("angle (deg)")
+    if broken:
+        top_start.set_ylabel("u, start (µm)")
+        top_end.set_ylabel("u, end (µm)")
+    else:
+        bands[0].set_ylabel("radius deviation u (µm)")
+    bands[0].set_title(_title(ds, f"radius at the start and the end (mean radius {drop})"), fontsize="medium")
     shape.set(xlabel="angle (deg)", ylabel="u - mean(u) (µm)", xlim=(0, 360),
               title="the shape: the same less its mean, on one axis")
-    top.legend(fontsize="small", loc="best")
+    if broken:
+        bands[0].legend(fontsize="small", loc="upper center", ncol=min(2 * len(rows), 4), title_fontsize="small",
+                        title=f"axis broken: two bands {height:.3g} µm high", handles=[line for line in bands[-1].get_lines() if not line.get_label().startswith("_")])
+    else:
+        bands[0].legend(fontsize="small", loc="best")
     shape.legend(handles=[Line2D([], [], color="0.3", ls="--", lw=1.0, label="start"),
                           Line2D([], [], color="0.3", ls="-", lw=1.5, label="end")], fontsize="small", loc="best")
     return fig
@@ -222,7 +268,7 @@ def spectrum(ds, diameter=None, limit=None):
     # 40 dB under the largest band, never under 1 pm rms (-120 dB re 1 µm); an empty band has no level
     top_level = max((float(np.nanmax(lv.level)) for lv in levels.values() if np.any(np.isfinite(lv.level))),
                     default=-np.inf)
-    band_floor = max(top_level - 20 * np.log10(SPECTRUM_RANGE), -120.0)
+    band_floor = shown_floor = max(top_level - 20 * np.log10(SPECTRUM_RANGE), -120.0)
     for i, (label, _) in enumerate(rows):
         for k, style, marker, when in ((0, "--", ".", "start"), (-1, "-", "o", "end")):
             lv = levels[(i, k)]
@@ -242,7 +288,12 @@ def spectrum(ds, diameter=None, limit=None):
     band_ax.plot([], [], ls="none", marker="o", mfc="white", color="0.4",
                  label=f"band longer than L/4 = {circumference / 4:.2f} m (not resolved)")
     band_ax.set_ylim(bottom=band_floor - 3)
-    span = np.concatenate([lv.wavelength for lv in levels.values()] + ([limit.wavelength] if limit is not None else []))
+    # the axis spans the bands drawn (a level within 40 dB of the largest) and the limit: never the
+    # empty bands past the last line of the spectrum
+    drawn = [lv.wavelength[np.isfinite(lv.level) & (lv.level >= shown_floor)] for lv in levels.values()]
+    span = np.concatenate(drawn + ([limit.wavelength] if limit is not None else []))
+    if span.size == 0:
+        span = np.concatenate([lv.wavelength for lv in levels.values()])
     band_ticks = bands.nominal_wavelength(np.arange(-9, 40, 3))
     band_ticks = band_ticks[(band_ticks <= span.max() * 1.05) & (band_ticks >= span.min() / 1.05)]
     band_ax.set_xscale("log")
@@ -262,6 +313,8 @@ def polar(ds, diameter=None):
     """The wheel round its circumference at the start (dashed) and the end (solid): the shape
     ``u - mean(u)`` (µm on the radial axis) about a circle that stands for the nominal radius,
     the deviation exaggerated by the factor stated in the figure."""
+    import textwrap
+
     from matplotlib.figure import Figure
     from matplotlib.ticker import MaxNLocator
 
@@ -283,13 +336,14 @@ def polar(ds, diameter=None):
         for s, style, width, when in ((shapes[0], "--", 1.0, "start"), (shapes[1], "-", 1.6, "end")):
             ax.plot(theta, s, color=f"C{i % 10}", ls=style, lw=width, label=when)
         ax.plot(theta, np.zeros_like(theta), color="0.5", lw=0.8, ls=":", label="mean radius")
-        ax.set_rlabel_position(100)
-        ax.yaxis.set_major_locator(MaxNLocator(5))
-        ax.yaxis.set_major_formatter(lambda v, _: f"{v:g} µm")
-        ax.tick_params(axis="y", labelsize="x-small")
+        ticks = [v for v in MaxNLocator(5).tick_values(-1.15 * span, 1.15 * span) if abs(v) <= 1.15 * span]
+        ax.set_yticks(ticks, [""] * len(ticks))
+        for v in ticks:  # the radial labels on a white ground, readable over the circles and curves behind
+            ax.text(np.radians(100), v, f"{tick_number(v, span)} µm", fontsize="x-small", ha="center", va="center",
+                    bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.85, "pad": 0.8}, zorder=5)
         ax.tick_params(axis="x", labelsize="small")
         drop = float(d.u.isel(time=-1).mean() - d.u.isel(time=0).mean()) / UM
-        ax.set_title(f"{label}: mean radius {drop:+.0f} µm over the run (not drawn)", fontsize="small", pad=14)
+        ax.set_title(f"{label}: mean radius {tick_number(round(drop), 1.0)} µm (not drawn)", fontsize="small", pad=14)
         if d_wheel is not None:
             factor = d_wheel / 2 / (hub * UM)
             notes.append(factor)
@@ -297,12 +351,13 @@ def polar(ds, diameter=None):
             ax.legend(loc="center", fontsize="x-small", frameon=False, handlelength=1.6)
     for ax in list(axes.flat)[len(rows):]:
         ax.set_axis_off()
-    scale = (f"radial axis u - mean(u) (µm), exaggerated about {min(notes):,.0f}x"
+    scale = (f"radial axis: u - mean(u) in µm, exaggerated about {min(notes):,.0f}x"
              + (f" to {max(notes):,.0f}x" if max(notes) > 1.01 * min(notes) else "")
-             + f"\nagainst the radius R0 = {d_wheel / 2 * 1e3:g} mm ({origin})") if notes else \
-        f"radial axis u - mean(u) (µm), not to scale:\n{origin}"
+             + f" against R0 = {d_wheel / 2 * 1e3:g} mm ({origin})") if notes else \
+        f"radial axis: u - mean(u) in µm, not to scale ({origin})"
     shown = "" if len(every) == len(rows) else f" (the first {len(rows)} of {len(every)} rows)"
-    fig.suptitle(_title(ds, "the wheel at the start and the end" + shown) + "\n" + scale, fontsize="medium")
+    fig.suptitle(_title(ds, "the wheel at the start and the end" + shown), fontsize="medium")
+    fig.supxlabel(textwrap.fill(scale, 28 * 2 * cols), fontsize="small")  # under the wheels: one title line
     return fig
 
 
@@ -437,10 +492,13 @@ UNIT_SUFFIXES = {"_kmh": "km/h", "_m_s": "m/s", "_kN": "kN", "_MN_m": "MN/m", "_
 
 
 def field_label(field):
-    """A scenario field as an axis label: its dotted name with the unit its name carries,
-    ``operation.speed_kmh (km/h)``."""
-    unit = next((u for suffix, u in UNIT_SUFFIXES.items() if field.endswith(suffix)), None)
-    return f"{field} ({unit})" if unit else field
+    """A scenario field as an axis label in words, with the unit its name carries:
+    ``operation.speed_kmh`` is ``speed (km/h)``, ``wheel.static_load_kN`` ``static load (kN)``
+    (the figure's title names the fields themselves)."""
+    name = field.rsplit(".", 1)[-1]
+    suffix = next((s for s in UNIT_SUFFIXES if name.endswith(s) and len(name) > len(s)), None)
+    words = (name[: -len(suffix)] if suffix else name).replace("_", " ")
+    return f"{words} ({UNIT_SUFFIXES[suffix]})" if suffix else words
 
 
 def flat_if_round_off(ax, values, axis="y"):
@@ -510,6 +568,8 @@ def sweep(ds):
             if ok and np.isfinite(yi):
                 ax.annotate(f"{int(n)}", (xi, yi), textcoords="offset points", xytext=(0, 7), ha="center",
                             fontsize="small")
+        handles.append(Line2D([], [], ls="", marker="$8$", ms=8, color="0.2",
+                              label="number over a point: dominant order at the end"))
         ax.set(xlabel=field_label(fields[0]), ylabel=ylabel)
         if not flat_if_round_off(ax, y[ran]):
             if log:
@@ -517,24 +577,54 @@ def sweep(ds):
             else:
                 top = float(np.nanmax(y[ran])) if np.any(ran) else 1.0
                 ax.set_ylim(0, 1.12 * top)
-        title = "numbers on the points: dominant order at the end"
+        title = "distance to the limit and dominant order" if "limit_distance" in ds else "growth and dominant order"
     else:
+        from matplotlib.colors import to_rgb
+
         x, yy = ds[fields[0]].values, ds[fields[1]].values
         X, Y = np.meshgrid(x, yy, indexing="ij")
-        ax.scatter(X.ravel(), Y.ravel(), c=colours.ravel(), s=120, marker="s")
-        for xi, yi, n, ok in zip(X.ravel(), Y.ravel(), order.ravel(), ran.ravel()):
+        # one cell per point, filling the grid, coloured by regime
+        ax.pcolormesh(_cell_edges(x), _cell_edges(yy), np.array([[to_rgb(c) for c in row] for row in colours.T]),
+                      edgecolors="w", linewidth=1.5)
+        said = "dominant order at the end"
+        distance = ds.limit_distance.values if "limit_distance" in ds else np.full(regimes.shape, np.nan)
+        if np.any(np.isfinite(distance)):
+            said += "; under it the distance to the limit\n(thousand km; none where the run ends before it)"
+        for xi, yi, n, km, ok in zip(X.ravel(), Y.ravel(), order.ravel(), distance.ravel(), ran.ravel()):
             if ok:
-                ax.annotate(f"{int(n)}", (xi, yi), ha="center", va="center", fontsize="x-small", color="w")
+                text = f"{int(n)}" + (f"\n{km / 1e3:,.0f}" if np.isfinite(km) else "")
+                ax.annotate(text, (xi, yi), ha="center", va="center", fontsize="small", color="w",
+                            fontweight="bold")
+        handles.append(Line2D([], [], ls="", marker="$8$", ms=8, color="0.2", label=f"number in a cell: {said}"))
         ax.set(xlabel=field_label(fields[0]), ylabel=field_label(fields[1]))
-        title = "regime; numbers: dominant order at the end"
+        ax.set_xticks(x)
+        ax.set_yticks(yy)
+        title = "regime and dominant order"
     if ax.get_yscale() == "log" or "limit_distance" in ds:  # plain ticks: 2.5, 150,000; never 2x10^0
         plain = lambda v, _: f"{v:,.0f}" if abs(v) >= 1000 else f"{v:g}"  # noqa: E731
         ax.yaxis.set_major_formatter(plain)
         ax.yaxis.set_minor_formatter(lambda v, _: plain(v, _) if f"{v:.0e}"[0] in "25" else "")
     present = [r for r in REGIME_COLOURS if r in set(map(str, regimes.ravel()))]
-    ax.legend(handles=[Patch(color=REGIME_COLOURS[r], label=r) for r in present] + handles, fontsize="small")
-    ax.set_title(f"{ds.attrs.get('base_scenario_name', '') or 'sweep'} sweep; {title}", fontsize="medium")
+    legend = [Patch(color=REGIME_COLOURS[r], label=f"regime: {r}") for r in present] + handles
+    if len(fields) == 2 and "sample" not in ds.dims:  # the cells fill the axes: the legend beside them
+        ax.legend(handles=legend, fontsize="small", loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
+    else:
+        ax.legend(handles=legend, fontsize="small")
+    import textwrap
+
+    name = ds.attrs.get("base_scenario_name", "") or "sweep"
+    ax.set_title(textwrap.fill(f"{name}: {title}, over {' × '.join(fields)}", 70), fontsize="medium")
     return fig
+
+
+def _cell_edges(values):
+    """Edges of cells centred on sorted grid ``values`` (halfway between neighbours)."""
+    v = np.asarray(values, float)
+    if v.size == 1:
+        half = 0.5 * abs(v[0]) if v[0] else 0.5
+        return np.array([v[0] - half, v[0] + half])
+    middle = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[v[0] - (middle[0] - v[0])], middle, [v[-1] + (v[-1] - middle[-1])]])
 
 
 def forecast(ds):
@@ -566,16 +656,40 @@ def forecast(ds):
              "out-of-roundness per sample, median and 90 % band of the crossing" if crossed.size else
              f"out-of-roundness per sample: none of {n} reaches the limit within {distance[-1]:.0f} km")
     ax.set(xlabel="distance (km)", ylabel=ylabel, title=title)
+    cuts = []
+    # the distance axis ends a fifth past the last crossing: past it the samples that crossed run on
+    # in a model no longer meant for them, and the samples that did not are said in words
+    end = float(distance[-1])
+    if crossed.size and not above and FORECAST_REACH * float(np.max(crossed)) < end:
+        last = float(np.max(crossed))
+        step = 10.0 ** np.floor(np.log10(1.1 * last) - 1)  # a round end: 390,000 km, not 421,304
+        end = min(np.ceil(1.1 * last / step) * step, FORECAST_REACH * last)
+        under = int(np.sum(~np.isfinite(cross)))
+        cuts.append(f"distance cut at {end:,.0f} km"
+                    + (f"; {under} sample{'s' if under != 1 else ''} stay under the limit to {distance[-1]:,.0f} km"
+                       if under else ""))
+    ax.set_xlim(distance[0] - 0.02 * (end - distance[0]), end)
+    seen = values[:, distance <= end]
     if "limit_m" in ds.attrs:  # a log axis from the start to a few times the limit: the limit stays in view
         ax.set_yscale("log")
         top = FORECAST_SPAN * limit
-        low = max(float(np.nanmin(values)), limit / 1e3)
+        low = max(float(np.nanmin(seen)), limit / 1e3)
         ax.set_ylim(low / 1.5, max(top, low * 2))
-        if np.nanmax(values) > top:
-            ax.text(0.01, 0.98, f"axis cut at {FORECAST_SPAN:g}x the limit", transform=ax.transAxes,
-                    fontsize="x-small", va="top")
+        if np.nanmax(seen) > top:
+            cuts.append(f"axis cut at {FORECAST_SPAN:g}x the limit")
         ax.yaxis.set_major_formatter(lambda v, _: f"{v:g}")
         ax.yaxis.set_minor_formatter(lambda v, _: f"{v:g}" if f"{v:.0e}"[0] in "25" else "")
+    else:  # the same span in dB: 20 dB above the limit, 60 dB under it at most
+        span = 20 * np.log10(FORECAST_SPAN)
+        finite = seen[np.isfinite(seen)]
+        high = float(np.max(finite)) if finite.size else span
+        low = float(np.min(finite)) if finite.size else -span
+        ax.set_ylim(max(low, -3 * span) - 2, min(max(high, 0.0), span) + 2)
+        if high > span or low < -3 * span:
+            cuts.append(f"axis cut at +{span:g} dB" + (f" and -{3 * span:g} dB" if low < -3 * span else ""))
+    if cuts:
+        ax.text(0.01, 0.98, "; ".join(cuts), transform=ax.transAxes, fontsize="x-small", va="top",
+                bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 1})
     ax.xaxis.set_major_formatter(lambda v, _: f"{v:,.0f}")
     ax.legend(fontsize="small", loc="lower right")
     if crossed.size and not above:
@@ -586,7 +700,8 @@ def forecast(ds):
     return fig
 
 
-FORECAST_SPAN = 10.0  # the forecast's peak-to-peak axis ends at this many times the limit
+FORECAST_SPAN = 10.0  # the forecast's peak-to-peak axis ends at this many times the limit (+20 dB)
+FORECAST_REACH = 1.2  # its distance axis ends at this many times the last crossing
 
 
 def hunting_map(map_ds):
@@ -594,12 +709,21 @@ def hunting_map(map_ds):
     (the file's ``critical_speed`` is read by its ``units``: m s-1, or km h-1 in earlier files)."""
     speed = speed_in(map_ds.critical_speed.transpose("yaw_stiffness", "conicity"), "km h-1")
     fig, (ax,) = _figure(7, 4.5)
+    from matplotlib.ticker import MaxNLocator
+
     finite = np.where(np.isfinite(speed), speed, np.nan)
-    levels = np.linspace(np.nanmin(finite), min(np.nanmax(finite), 3 * np.nanmin(finite) + 500), 15) \
-        if np.isfinite(finite).any() else 10
+    if np.isfinite(finite).any():  # round levels (100, 150, ... km/h), never 96.3, 195.2
+        low, high = float(np.nanmin(finite)), min(float(np.nanmax(finite)), 3 * float(np.nanmin(finite)) + 500)
+        levels = MaxNLocator(14, steps=[1, 2, 2.5, 5, 10]).tick_values(low, max(high, low + 1))
+        levels = levels[(levels < high) | (np.arange(levels.size) == 0)]
+        levels = np.append(levels, levels[-1] + (levels[1] - levels[0]) if levels.size > 1 else levels[0] + 10)
+        extend = "both" if levels[0] > low else "max"
+    else:
+        levels, extend = 10, "max"
     mesh = ax.contourf(map_ds.conicity.values, map_ds.yaw_stiffness.values / MN, finite, levels=levels,
-                       cmap="viridis", extend="max")
-    fig.colorbar(mesh, ax=ax, label="critical speed (km/h)")
+                       cmap="viridis", extend=extend)
+    bar = fig.colorbar(mesh, ax=ax, label="critical speed (km/h)")
+    bar.ax.yaxis.set_major_formatter(lambda v, _: f"{v:,.0f}" if abs(v) >= 100 else f"{v:g}")
     ax.set(xlabel="equivalent conicity", ylabel="yaw stiffness (MN m/rad)",
            title="linear critical speed of hunting (blank: stable at every speed)")
     return fig
@@ -612,8 +736,8 @@ def lateral_motion(ds):
     for ax, v in zip(axes, speeds):
         d = ds.sel(speed=v) if ds.speed.ndim else ds
         ax.plot(d.time.values * v, d.lateral_displacement.values / MM, lw=0.8)
-        ax.set(ylabel="y (mm)", title=f"{m_s_to_kmh(v):g} km/h")
-    axes[-1].set_xlabel("distance (m)")
+        # each panel its own distance (the same time at another speed): each its own label
+        ax.set(xlabel="distance run (m)", ylabel="lateral displacement y (mm)", title=f"{m_s_to_kmh(v):g} km/h")
     vc = ds.attrs.get("linear_critical_speed_kmh")
     fig.suptitle("hunting of a wheelset" + (f" (linear critical speed {vc:.0f} km/h)" if vc else ""))
     return fig

@@ -50,7 +50,7 @@ def test_the_figure_draws_the_distance_per_speed(metro):
     fig = plots.sweep(results.read_netcdf(out / "sweep.nc"))
     (ax,) = fig.axes
     assert ax.get_ylabel() == "distance to the 0.1 mm peak-to-peak limit (km)"
-    assert ax.get_xlabel() == "operation.speed_kmh (km/h)"
+    assert ax.get_xlabel() == "speed (km/h)"
     (line,) = ax.get_lines()
     np.testing.assert_allclose(line.get_ydata(), DISTANCES, atol=1.0)
     assert ax.get_ylim()[0] == 0 and ax.get_ylim()[1] > max(DISTANCES)
@@ -92,9 +92,10 @@ def test_a_failed_point_has_no_counts():
     assert str(ds.regime.values[0]) == "failed"
 
 
-@pytest.mark.parametrize("field, label", [("operation.speed_kmh", "operation.speed_kmh (km/h)"),
-                                          ("wheel.static_load_kN", "wheel.static_load_kN (kN)"),
-                                          ("track.pad_stiffness_MN_m", "track.pad_stiffness_MN_m (MN/m)"),
-                                          ("contact.friction_coefficient", "contact.friction_coefficient")])
+@pytest.mark.parametrize("field, label", [("operation.speed_kmh", "speed (km/h)"),
+                                          ("wheel.static_load_kN", "static load (kN)"),
+                                          ("track.pad_stiffness_MN_m", "pad stiffness (MN/m)"),
+                                          ("contact.friction_coefficient", "friction coefficient"),
+                                          ("wheel.radius_m", "radius (m)")])
 def test_field_label(field, label):
     assert plots.field_label(field) == label
