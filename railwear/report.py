@@ -18,7 +18,7 @@ from railwear.results import (PER_10000_KM, defined, growth_note, growth_per_100
 
 NAME = "report.html"
 STYLE = """body{font-family:sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222}
-pre{background:#f4f4f4;padding:.8em;overflow-x:auto;font-size:90%}
+pre{background:#f4f4f4;padding:.8em;white-space:pre-wrap;overflow-wrap:anywhere;font-size:90%}
 table{border-collapse:collapse;margin:.5em 0 1.5em}td,th{border:1px solid #ccc;padding:.25em .6em;text-align:left}
 td.n{text-align:right;font-variant-numeric:tabular-nums}img{max-width:100%}
 figure{margin:1em 0}.warn{color:#8a4b00}"""

@@ -4,6 +4,7 @@ the regime, every figure as an embedded PNG, the warnings and the version."""
 import base64
 import json
 import os
+import re
 import shutil
 import subprocess
 import warnings
@@ -162,22 +163,76 @@ def test_railwear_plot_writes_the_report_again(metro, tmp_path):
     assert "warnings are not stored in the result file" in page.words
 
 
-BROWSERS = [b for b in ("chromium", "chromium-browser", "google-chrome", "firefox") if shutil.which(b)]
+BROWSERS = ("chromium", "chromium-headless-shell", "chromium-browser", "google-chrome", "google-chrome-stable")
 
 
-@pytest.mark.skipif(not BROWSERS, reason="no headless browser (chromium, google-chrome, firefox) on this machine")
-def test_a_headless_browser_opens_the_report(metro, tmp_path):
+def browser():
+    """A headless Chromium: ``$RAILWEAR_BROWSER``, else the first of :data:`BROWSERS` on the path."""
+    given = os.environ.get("RAILWEAR_BROWSER")
+    return shutil.which(given) if given else next((shutil.which(b) for b in BROWSERS if shutil.which(b)), None)
+
+
+needs_browser = pytest.mark.skipif(
+    browser() is None, reason=f"no headless Chromium on this machine (none of {', '.join(BROWSERS)} on the path, "
+                              "nor $RAILWEAR_BROWSER); on Debian: apt-get install chromium-headless-shell")
+SHOT = (1000, 4200)  # width, height of the screenshot in CSS pixels (device scale 1): the summary and two figures
+
+
+def chromium(*arguments, timeout=120):
+    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--force-device-scale-factor=1",
+             "--no-first-run", "--disable-extensions"]
+    return subprocess.run([browser(), *flags, *arguments], check=True, timeout=timeout, capture_output=True,
+                          text=True)
+
+
+def screenshot(page, tmp_path, name="shot"):
+    """The page rendered by headless Chromium at :data:`SHOT`: an RGB array (0-255)."""
+    from matplotlib.image import imread
+
+    shot = tmp_path / f"{name}.png"
+    chromium(f"--window-size={SHOT[0]},{SHOT[1]}", f"--screenshot={shot}",
+             f"--user-data-dir={tmp_path / (name + '-profile')}", page.resolve().as_uri())
+    assert shot.read_bytes().startswith(PNG)
+    return np.round(imread(shot)[..., :3] * 255).astype(int)
+
+
+def problems(image):
+    """What is wrong with a screenshot of a report, as a list of lines (empty: a rendered report):
+    the size asked for; not blank (at least 3 % of the pixels off the white page); text (dark
+    pixels) in its first 600 rows, where the title and summary are; and figures: the blue of the
+    lines the figures draw (matplotlib's first colour, #1f77b4; the page's own text is black or
+    brown), which a missing or broken image does not show."""
+    found = []
+    if image.shape[:2] != (SHOT[1], SHOT[0]):
+        found.append(f"size {image.shape[1]} x {image.shape[0]}, not {SHOT[0]} x {SHOT[1]}")
+    inked = np.mean(np.any(image < 235, axis=-1))
+    if inked < 0.03:
+        found.append(f"blank: {inked:.2%} of the pixels are not white")
+    text = np.sum(np.all(image[:600] < 100, axis=-1))
+    if text < 2000:
+        found.append(f"no text at the top: {text} dark pixels")
+    r, g, b = image[..., 0], image[..., 1], image[..., 2]
+    blue = np.sum((b > 120) & (b - r > 60) & (b - g > 20))
+    if blue < 3000:
+        found.append(f"no figure drawn: {blue} blue pixels")
+    return found
+
+
+@needs_browser
+def test_the_report_renders_in_a_headless_browser(metro, tmp_path):
+    """report.html of a run, rendered by headless Chromium: the screenshot has the size asked
+    for, text at the top and the figures drawn; the DOM it parsed holds the four images as PNG.
+    The same check finds an empty page and a page whose images are broken."""
     out, _ = metro
-    url = (out / "report.html").resolve().as_uri()
-    browser = BROWSERS[0]
-    if browser == "firefox":
-        shot = tmp_path / "shot.png"
-        subprocess.run([browser, "--headless", "--screenshot", str(shot), url], check=True, timeout=120,
-                       capture_output=True)
-        assert shot.read_bytes().startswith(PNG)
-        return
-    dom = subprocess.run([browser, "--headless", "--disable-gpu", "--no-sandbox", "--dump-dom", url], check=True,
-                         timeout=120, capture_output=True, text=True).stdout
-    page = Page(dom)
+    assert problems(screenshot(out / "report.html", tmp_path)) == []
+    page = Page(chromium("--dump-dom", f"--user-data-dir={tmp_path / 'dom-profile'}",
+                         (out / "report.html").resolve().as_uri()).stdout)
     assert len(page.images) == 4 and all(decoded(i).startswith(PNG) for i in page.images)
     assert "The numbers behind the regime" in page.words
+    empty = tmp_path / "empty.html"
+    empty.write_text("<!DOCTYPE html><html><head><title>x</title></head><body></body></html>", encoding="utf-8")
+    assert any(p.startswith("blank") for p in problems(screenshot(empty, tmp_path, "empty")))
+    broken = tmp_path / "broken.html"  # the report with every image's data cut short: broken images
+    text = (out / "report.html").read_text(encoding="utf-8")
+    broken.write_text(re.sub(r"base64,[A-Za-z0-9+/=]{64}", "base64,AAAA", text), encoding="utf-8")
+    assert any(p.startswith("no figure") for p in problems(screenshot(broken, tmp_path, "broken")))
