@@ -2,6 +2,7 @@
 
 from railwear.scenario import load_scenario, scenario_hash, to_toml
 from railwear.scenario import build
+from railwear.checkpoints import Periodic
 
 __all__ = ["load_scenario", "run", "simulate", "speed_coordinates"]
 
@@ -54,8 +55,6 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
     wall time; ``resume_path`` continues from such a file (the scenario is then taken from it when
     ``scenario`` is None) to the same result, bit for bit, as an uninterrupted run.
     """
-    import time
-
     from railwear import __version__, results
     from railwear.errors import ScenarioError
     from railwear.longterm.base import check_result
@@ -71,12 +70,8 @@ def run(scenario=None, progress=None, checkpoint_path=None, checkpoint_every=30.
     scenario = load_scenario(scenario)
     save = None
     if checkpoint_path is not None:
-        toml, digest, last = to_toml(scenario), scenario_hash(scenario), [time.monotonic()]
-
-        def save(state):
-            if time.monotonic() - last[0] >= checkpoint_every:
-                results.write_checkpoint(checkpoint_path, state, toml, digest)
-                last[0] = time.monotonic()
+        toml, digest = to_toml(scenario), scenario_hash(scenario)
+        save = Periodic(lambda state: results.write_checkpoint(checkpoint_path, state, toml, digest), checkpoint_every)
 
     solver = scenario.solver
     strategy = build.strategy(scenario)

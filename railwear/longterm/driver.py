@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from railwear.checkpoints import wanted
 from railwear.errors import ScenarioError
 from railwear.longterm.base import (Checkpoint, WearState, checked_run, cost_variables, fingerprint, fraction_done,
                                     plain_value, rng_from_text, rng_state_text, stop_fraction, stop_time)
@@ -93,7 +94,7 @@ def drive(strategy, body, u0, until, depth_limit, *, settings=(), seed=0, n_save
             while state.mark < n_save and (state.time >= time_marks[state.mark] or (
                     depth_marks is not None and removed >= depth_marks[state.mark])):
                 state.mark += 1
-        if checkpoint is not None:  # before the progress: a fraction reported is a fraction saved
+        if wanted(checkpoint):  # before the progress: a fraction reported is a fraction saved
             checkpoint(_snapshot(strategy.name, key, state))
         if progress is not None:
             progress(fraction_done(state.time, until, body.removed(state.u, u_start), depth_limit))

@@ -1,7 +1,7 @@
 """Strategy 4 of the paper: the phenomenological evolution equation ``u_T = h(u_xx; u, u_x, v)``,
 here ``h(u_xx; v) + drift(v) u_x + dispersion(v) u_xxx`` (as fitted by :mod:`railwear.longterm.fitting`)."""
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -48,7 +48,11 @@ def solver_checkpoints(name, checkpoint, resume):
     unwrapped from a :class:`~railwear.longterm.base.Checkpoint` of kind ``name``."""
     from railwear.pde.evolution import EvolutionCheckpoint
 
-    save = None if checkpoint is None else (lambda cp: checkpoint(Checkpoint(name, cp.fingerprint, asdict(cp))))
+    save = None
+    if checkpoint is not None:
+        def save(cp):
+            checkpoint(Checkpoint(name, cp.fingerprint, {f.name: getattr(cp, f.name) for f in fields(cp)}))
+        save.due = getattr(checkpoint, "due", lambda: True)
     if resume is not None:
         resume.check(name, resume.fingerprint)
         resume = EvolutionCheckpoint(**resume.fields)

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from railwear.checkpoints import wanted
 from railwear.errors import IllPosedError, NumericalInstabilityError, ResolutionWarning, ScenarioError
 from railwear.pde.etdrk4 import OK, ETDCoefficients, advance_compiled, advance_python, etdrk4_coefficients
 
@@ -157,7 +158,7 @@ class ETDRK4Solver:
                 continue
             if not np.any(loop.active):
                 break
-            if checkpoint is not None:
+            if wanted(checkpoint):
                 checkpoint(loop.checkpoint())
             if progress is not None:
                 progress(loop.intervals / (self.n_save - 1))
