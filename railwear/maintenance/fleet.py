@@ -692,7 +692,7 @@ def figure_cars(ds):
     colourbar.set_label("distance to the next action (10³ km)")
     replace = [(c, r) for (r, c), act in zip(index, ds.action.values) if act == REPLACE]
     if replace:
-        ax.plot([c + 0.5 for c, _ in replace], [r + 0.5 for _, r in replace], "x", color="C3", ms=7, mew=1.5,
+        ax.plot([c + 0.85 for c, _ in replace], [r + 0.25 for _, r in replace], "x", color="C3", ms=7, mew=1.5,
                 ls="none", label="replace")
     if len(cars) <= 16:
         for r in range(len(rows)):

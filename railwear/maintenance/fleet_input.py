@@ -268,7 +268,7 @@ def write_synthetic(directory, wheels, rng, diameter_range_mm=(780.0, 840.0), or
             u = u + roughness_um * np.sqrt(2 / k.size) * np.sum(
                 np.cos(k[:, None] * x + rng.uniform(0, 2 * np.pi, k.size)[:, None]), axis=0)
         mileage = float(np.round(rng.uniform(20_000, 400_000)))
-        turned = float(np.round(mileage - rng.uniform(5_000, 180_000))) if mileage > 185_000 else 0.0
+        turned = max(float(np.round(mileage - rng.uniform(5_000, 180_000))), 0.0)
         name = f"W{w + 1:04d}"
         rows.append(f"{name},{car + 1},{axle},{side},{d:.2f},{mileage:.0f},{date},{turned:.0f},wheels/{name}.csv")
         text = "angle_deg,deviation_um\n" + "".join(f"{np.degrees(xi):.4f},{ui:.6f}\n" for xi, ui in zip(x, u))
