@@ -35,7 +35,7 @@ WHEELSET_ELSEWHERE = "(The wheelset's section: `python docs/strategies_wheelset.
 POINTS = 32  # orders 1-16: the surface resolves the P2 orders, not the contact resonance (~500 Hz)
 DEPTH = 0.1e-3 if QUICK else 0.3e-3  # removed depth at the most worn spot (m)
 ACCELERATION = 2000.0 if QUICK else 500.0
-# labelled by the Fourier map over orders 1-16 at each speed; the regime column is the run's own
+# labelled by the Fourier map over orders 1-16 at each speed; the regime column is the reference's, by the wheel's rule
 SPEEDS_KMH = {"map: all orders decay": 150.0, "map: order 4 grows": 120.0, "map: orders 7-9 grow": 70.0}
 STEP_LIMIT = 5e-6
 FAST_LIMIT = 20e-6  # on the shape, second-order steps
@@ -331,14 +331,14 @@ WHY = """## Why
   alone, about 1/1000 of the reference (see Targets).
 - **Regimes.** The speed labels say what the Fourier map over orders 1-16 predicts (150 km/h:
   every order decays; 120 km/h: order 4 grows slowly; 70 km/h: orders 7-9 grow); the regime
-  column is the run's own, from growth (`railwear.geometry.roundness.regime`: 3x out-of-round rms
-  polygonalising, below half smoothing, 10 % rms growth or 1.5x of an order present at the start
-  onset). Over 0.3 mm (about 8400 km at 70 km/h) order 8 grows by its 2.7e-5 per km only 1.25x
-  while the initial roughness in the decaying orders falls, so every run here is stable by that
-  rule; run further, the 70 km/h wheel turns onset by it (the built-in scenarios
-  linear-dynamics, stepwise and direct, to 1 mm: order 8 leading in all three), and
-  polygonalising by the wheel's rule the command line prints (order 8 at +47, +24 and +41 % per
-  10 000 km; docs/outputs.md). The growth rates are in the second table.
+  column is the direct reference's, by the one rule every result carries (`railwear.longterm.regime`,
+  docs/outputs.md: growth per 10 000 km and the state reached). At 150 km/h the out-of-round rms
+  falls by more than 20 % per 10 000 km: smoothing. At 120 and 70 km/h the largest order at the
+  end, 4 and 8, one the wheel had, grows by more than 10 % per 10 000 km (order 8 by its 2.7e-5
+  per km, +31 %): polygonalising, as the built-in linear-dynamics, stepwise and direct to 1 mm
+  (order 8 at +47, +24 and +41 %). The rule before, read from the growth over the run (3x
+  out-of-round rms), called every run here stable: over 0.3 mm (about 8400 km at 70 km/h) order 8
+  grows only 1.25x. The growth rates are in the second table.
 """
 
 

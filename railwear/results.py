@@ -12,6 +12,8 @@ import xarray as xr
 from numpy.lib.npyio import NpzFile
 
 from railwear.errors import CheckpointError, ScenarioError
+from railwear.longterm import regime
+from railwear.longterm.regime import PER_10000_KM, REGIME_RULE, ROUND_PEAK_TO_PEAK, is_round, wheel_regime  # noqa: F401
 from railwear.units import MM, MM3, UM, kmh_to_m_s, m_s_to_kmh
 
 
@@ -153,6 +155,9 @@ def wheelset_summary(ds: xr.Dataset):
         depth = last.worn_depth.sel(wheel=wheel).values
         entry[f"{wheel}_max_worn_depth_mm"] = float(depth.max()) / MM
         entry[f"{wheel}_max_worn_at_mm"] = float(ds.lateral.values[depth.argmax()]) / MM
+        if "flange_height" in ds:  # Sh, Sd, qR (EN 15313) at the end
+            entry[f"{wheel}_flange_mm"] = [float(last[v].sel(wheel=wheel)) / MM
+                                           for v in ("flange_height", "flange_thickness", "flange_gradient")]
     entry.update({
         "band_90_mm": band_width(last.worn_depth.mean("wheel").values, ds.lateral.values) / MM,
         "contact_range_mm": [float(last.contact_min) / MM, float(last.contact_max) / MM],
@@ -227,15 +232,9 @@ def _runs(ds):
         yield {batch[0]: float(ds[batch[0]][i])}, ds.isel({batch[0]: i})
 
 
-ROUND_PEAK_TO_PEAK = 1e-12  # m: a wheel with less peak to peak than 1 pm is round (no out-of-round to read)
 ROUND_OFF_SHARE = 1e-9  # an order starting below this share of the largest amplitude starts at round-off
 ROUND_WHEEL = "the wheel is round at the end (peak to peak under 1 pm): no order is the largest"
 ROUND_START = "the wheel is round at the start (peak to peak under 1 pm): no out-of-round to grow"
-
-
-def is_round(peak_to_peak):
-    """Whether a wheel of ``peak_to_peak`` (m) is round: under :data:`ROUND_PEAK_TO_PEAK`."""
-    return bool(peak_to_peak < ROUND_PEAK_TO_PEAK)
 
 
 def growth_note(d, n):
@@ -296,64 +295,12 @@ def _polygon(d, entry, life):
     return out, why
 
 
-# The regime of the wheel (issue 22, item 3), from growth rates per distance and the state the wheel
-# reached; never from a factor over the run, which a run stopped sooner at its limit reads smaller.
-# Growth g per 10 000 km (the field's distance): g = exp(rate x 10 000 km / life) - 1.
-POLYGON_ORDER_GROWTH = 0.10  # the largest order at the end grows at least 10 % per 10 000 km: a polygon forms
-POLYGON_RMS_GROWTH = 0.50  # or the out-of-round rms grows at least 50 % per 10 000 km
-SMOOTHING_RMS_GROWTH = -0.20  # the out-of-round rms falls by at least 20 % per 10 000 km: smoothing
-ONSET_GROWTH = 0.01  # an order the wheel has, or the rms, grows at least 1 % per 10 000 km: onset
-SEEDED_SHARE = 0.01  # an order the wheel has: at least 1 % of its largest amplitude at the start
-SIGNIFICANT = 2.0  # a rate counts when it exceeds this many standard errors
-
-REGIME_RULE = (
-    "from growth per 10 000 km (exp(fitted ln-rate x 10 000 km) - 1) and the state reached, not from the "
-    "growth over the run: polygonalising when the largest order at the end, one the wheel had at the start "
-    "(at least 1 % of its largest amplitude then), grows at least 10 % per 10 000 km, or the out-of-round "
-    "rms grows at least 50 % per 10 000 km; smoothing when the rms falls at least 20 % per 10 000 km; "
-    "onset when an order the wheel had at the start, or the rms, grows at least 1 % per 10 000 km; else "
-    "stable (a round wheel too). A rate counts only beyond 2 standard errors")
-
-
-def wheel_regime(d, life):
-    """The regime of the run ``d`` (one row of a long-term result) by :data:`REGIME_RULE`, the
-    normed life being ``life`` km: the same wheel at the same speed gets the same label whatever
-    its start amplitude, limit or strategy, as far as its growth rates agree."""
-    per = PER_10000_KM / life
-    rate = np.asarray(d.growth_rate.values, float) * per
-    error = np.asarray(d.growth_rate_error.values, float) * per
-    start = np.asarray(d.amplitude_initial.values, float)
-    with np.errstate(invalid="ignore"):
-        counts = np.isfinite(rate) & (np.abs(rate) > SIGNIFICANT * np.where(np.isfinite(error), error, 0.0))
-        seeded = start >= SEEDED_SHARE * start.max() if start.max() > 0 else np.zeros(start.size, bool)
-    rms = float(d.out_of_round_growth_rate) * per
-    rms_error = float(d.out_of_round_growth_rate_error) * per
-    rms_counts = np.isfinite(rms) and abs(rms) > SIGNIFICANT * (rms_error if np.isfinite(rms_error) else 0.0)
-    if is_round(float(d.peak_to_peak)) and is_round(float(d.peak_to_peak_initial)):
-        return "stable"
-    k = int(d.dominant_order) - 1
-    if not is_round(float(d.peak_to_peak)) and seeded[k] and counts[k] and rate[k] >= np.log1p(POLYGON_ORDER_GROWTH):
-        return "polygonalising"
-    if rms_counts and rms >= np.log1p(POLYGON_RMS_GROWTH):
-        return "polygonalising"
-    if rms_counts and rms <= np.log1p(SMOOTHING_RMS_GROWTH):
-        return "smoothing"
-    if (rms_counts and rms >= np.log1p(ONSET_GROWTH)) or np.any(seeded & counts & (rate >= np.log1p(ONSET_GROWTH))):
-        return "onset"
-    return "stable"
-
-
 def with_wheel_regime(ds):
-    """``ds`` with ``regime`` by :func:`wheel_regime` (its ``rule`` attribute that rule), where it
-    has the growth rates and a normed life in km; otherwise ``ds`` as it is."""
-    life = float(ds.attrs.get("life_distance_km", 0.0))
-    if not (life > 0 and "regime" in ds and "growth_rate" in ds and "amplitude_initial" in ds):
-        return ds
-    labels = [wheel_regime(d, life) for _, d in _runs(ds)]
-    ds["regime"] = (ds.regime.dims, np.array(labels, dtype=str).reshape(ds.regime.shape),
-                    {"long_name": "wear regime of the wheel (stable, smoothing, onset, polygonalising)",
-                     "rule": REGIME_RULE})
-    return ds
+    """``ds`` with ``regime`` by :func:`~railwear.longterm.regime.wheel_regime` (its ``rule``
+    attribute :data:`REGIME_RULE`), where it has the growth rates and a normed life in km (its
+    ``life_distance_km``, else its ``distance`` coordinate); otherwise ``ds`` as it is. A
+    strategy's result carries this label already (``longterm.spectra.describe``)."""
+    return regime.with_wheel_regime(ds)
 
 
 def growth_per_10000_km(rate, life):
@@ -386,7 +333,6 @@ def _defined(entry, why=None):
 
 
 BODY_SUMMARIES = {"wheelset": wheelset_summary}
-PER_10000_KM = 1e4  # km: the field's distance for wear and growth rates
 
 
 def summary_text(s):
@@ -410,7 +356,9 @@ def run_lines(r):
                 f"(left / right), 90 % of the volume in a band {r['band_90_mm']:.1f} mm wide; last step: "
                 f"lateral amplitude {r['lateral_amplitude_mm']:.2f} mm, contact from {r['contact_range_mm'][0]:.1f} "
                 f"to {r['contact_range_mm'][1]:.1f} mm; {r['steps']} steps, {r['cost_seconds_simulated']:g} s "
-                f"simulated, {r['cost_tables']} contact tables"]
+                f"simulated, {r['cost_tables']} contact tables"] + [
+            f"flange of the {wheel} wheel (EN 15313): Sh {sh:.2f} mm, Sd {sd:.2f} mm, qR {qr:.2f} mm"
+            for wheel in ("left", "right") if f"{wheel}_flange_mm" in r for sh, sd, qr in [r[f"{wheel}_flange_mm"]]]
     if r.get("round"):
         shape = "round at the end (peak to peak under 1 pm: no dominant order, no maxima)"
     else:

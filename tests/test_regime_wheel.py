@@ -109,3 +109,38 @@ def test_an_order_the_run_made_from_nothing_does_not_make_a_polygon():
 def test_a_round_wheel_is_stable():
     t = np.linspace(0.0, 1.0, 5)
     assert results.wheel_regime(_run(t, np.zeros((5, 64)) - t[:, None] * 1e-3), 50000.0) == "stable"
+
+
+def test_an_order_growing_within_its_noise_is_not_onset():
+    """Order 2 ends 3x higher, but dips to 0.2 between: its fitted rate is within 2 standard
+    errors of zero, and the rms falls; stable (the old rule's case, under the wheel's rule)."""
+    from railwear.geometry import roundness
+
+    times = np.array([0.0, 0.5, 1.0])
+    u = np.array([roundness.harmonics(64, [2, 3, 4], [1e-5 * a, 1e-5 * b, 1e-5 * b])
+                  for a, b in ((1.0, 1.0), (0.2, 0.6), (3.0, 0.55))])
+    ds = _run(times, u)
+    rate, error = float(ds.growth_rate.sel(order=2)), float(ds.growth_rate_error.sel(order=2))
+    assert rate > 0 and rate < 2 * error
+    assert results.wheel_regime(ds, 50000.0) == "stable"
+
+
+def test_a_strategy_result_carries_the_wheel_s_label_from_its_distance():
+    """One rule: describe() labels a result by the wheel's rule where its distance coordinate gives
+    the life, so a strategy's run() from Python and railwear.run agree (no second rule)."""
+    t = np.linspace(0.0, 0.2, 21)
+    x = np.arange(256) * 2 * np.pi / 256
+    u = _harmonic(t, x, 1, 15e-6, 0.0) + _harmonic(t, x, 8, 2e-6, 0.20)
+    import xarray as xr
+
+    from railwear.longterm import regime
+    from railwear.longterm.spectra import describe
+
+    ds = xr.Dataset({"u": (("time", "angle"), u)},
+                    coords={"time": t, "angle": x, "distance": ("time", t * 50000.0)})
+    ds["stop_time"] = ((), float(t[-1]))
+    ds = describe(ds)
+    assert str(ds.regime.values) == "onset" == results.wheel_regime(ds, 50000.0)
+    assert ds.regime.attrs["rule"] == regime.REGIME_RULE == results.REGIME_RULE
+    bare = describe(xr.Dataset({"u": (("time", "angle"), u)}, coords={"time": t, "angle": x}))
+    assert "regime" not in bare  # no distance, no life: no label rather than one of another rule

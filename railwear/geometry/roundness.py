@@ -130,12 +130,7 @@ def log_growth(times, values):
     return slope, np.sqrt(np.sum(residual**2, axis=0) / (t.size - 2) / sxx)
 
 
-# The regimes of the paper's Figs 9-11 from the growth over the run of the out-of-round part of u
-# (its rms, all orders >= 1) and of the orders present at the start (conventions of railwear):
-POLYGONAL_GROWTH = 3.0  # out-of-round rms grows at least 3x: polygonalising
-SMOOTHING_DECAY = 0.5  # out-of-round rms falls below half: smoothing
-ONSET_GROWTH = 1.1  # out-of-round rms grows by 10 %: onset ...
-ORDER_ONSET_GROWTH = 1.5  # ... or an order present at the start grows 1.5x, by more than 2 standard errors
+# What growth() calls present and seeded at the start (the regime itself: railwear.longterm.regime)
 PRESENT = 0.1  # an order is present at the start with at least this share of the largest amplitude
 SEEDED = 0.01  # ... and seeded with at least this share (not made from nothing by the nonlinearity)
 
@@ -169,25 +164,3 @@ def growth(times, deviation):
             "dominant_factor": float(np.exp(order_rate[j] * span)) if np.isfinite(order_rate[j]) else 0.0,
             "dominant_significant": bool(np.isfinite(order_rate[j]) and order_rate[j] > 2 * order_error[j]
                                          and start[j] >= SEEDED * start.max())}
-
-
-REGIME_RULE = ("polygonalising when the out-of-round rms grows 3x over the run, or the largest harmonic at "
-               "the end, seeded at the start with 1 % of the largest amplitude, has grown 3x (by more than 2 "
-               "standard errors of its fitted rate); smoothing when the rms falls "
-               "below half, onset when it grows by 10 % or an order present at the start grows 1.5x "
-               "(by more than 2 standard errors of its fitted rate), else stable")
-
-
-def regime(g):
-    """The regime from :func:`growth`'s ``g``: :data:`REGIME_RULE`."""
-    if not np.isfinite(g["rms_factor"]):
-        return "stable"
-    if g["rms_factor"] >= POLYGONAL_GROWTH or (g["dominant_significant"] and g["dominant_factor"] >= POLYGONAL_GROWTH):
-        return "polygonalising"
-    if g["rms_factor"] < SMOOTHING_DECAY:
-        return "smoothing"
-    if g["rms_factor"] >= ONSET_GROWTH and g["rms_rate"] > 2 * g["rms_rate_error"]:
-        return "onset"
-    if g["leading_significant"] and g["leading_factor"] >= ORDER_ONSET_GROWTH:
-        return "onset"
-    return "stable"

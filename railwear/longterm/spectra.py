@@ -5,6 +5,7 @@ import xarray as xr
 
 from railwear.errors import ModelRangeError
 from railwear.geometry import bands, roundness
+from railwear.longterm import regime
 
 ROUND_OFF = 1e4 * np.finfo(float).eps  # of the largest |u|: a mean below -this is a gain, not round-off
 UNDEFINED = "undefined_because"  # attribute of a statistic: why its masked (NaN) entries have no value
@@ -97,8 +98,10 @@ def with_band_levels(ds: xr.Dataset, radius):
 
 def describe(ds: xr.Dataset, radius=None):
     """Add removed depth over time, the initial and final polygon spectra and the fitted growth
-    to a solution, and with the wheel's nominal ``radius`` (m; or the solution's
-    ``nominal_radius``) the band levels in wavelength (:func:`with_band_levels`). A statistic
+    to a solution, its ``regime`` by the rule of :mod:`railwear.longterm.regime` where its
+    ``distance`` coordinate (or ``life_distance_km``) gives the distance of a unit of normed time,
+    and with the wheel's nominal ``radius`` (m; or the solution's ``nominal_radius``) the band
+    levels in wavelength (:func:`with_band_levels`). A statistic
     without a value somewhere (a rate of an order that is absent, the level of a zero amplitude)
     is NaN there, and its :data:`UNDEFINED` attribute says why."""
     u = ds.u
@@ -173,10 +176,7 @@ def describe(ds: xr.Dataset, radius=None):
         if name.startswith("out_of_round_"):
             values, undefined = masked(values, [(TOO_SHORT, short), (ROUND, ~np.isfinite(rms_rate)), (FEW_TIMES, True)])
         ds[name] = (tuple(batch), values, {"units": "1", "long_name": long_name, **undefined})
-    regimes = np.array([roundness.regime(f) for f in fits], dtype=object).reshape(shape)
-    ds["regime"] = (tuple(batch), regimes.astype(str),
-                    {"long_name": "wear regime (stable, smoothing, onset, polygonalising)",
-                     "rule": roundness.REGIME_RULE})
+    ds = regime.with_wheel_regime(ds)  # the one rule: from growth per distance (its distance coordinate)
     if radius is None and "nominal_radius" in ds:
         radius = float(ds.nominal_radius)
     return ds if radius is None else with_band_levels(ds, radius)
