@@ -50,23 +50,28 @@ Normed time: ``life_distance`` metres of running are one unit. The result keeps 
 contract (``u`` = minus the removed depth over (time, wheel, angle, lateral), ``distance`` in km)
 and adds ``worn_depth(time, wheel, lateral)`` (m, angle-averaged), ``surface_depth(wheel, angle,
 lateral)`` at the end, the removed and the law's volume, the contact positions and the largest
-lateral displacement seen per step, the tables' rolling-radius difference per step, and the cost
+lateral displacement seen per step, the tables' rolling-radius difference per step, the flange
+parameters Sh, Sd, qR of each worn wheel (m, :mod:`railwear.geometry.flange`), and the cost
 (simulated seconds, right-hand sides, tables); stepwise adds the Monte Carlo standard error of the
 final worn depth. Checkpoints and resumes are the driver's, bit for bit.
 """
 
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import astuple, dataclass, field, fields, replace
 
 import numpy as np
 
 from railwear.errors import ScenarioError
 from railwear.geometry import contact_table, worn_profile
 from railwear.geometry.contact_models import CONTACT_MODELS
+from railwear.geometry.flange import flange_parameters
 from railwear.geometry.wear_surface import WearSurface, deposit_rectangles, ellipse_footprint
 from railwear.longterm.base import Body, time_coordinates
 from railwear.wear import ContactSample, WearLaw
 
 WHEELS = ("left", "right")
+# The flange parameters (EN 15313) of each wheel's worn profile at every save, in FlangeParameters' order.
+FLANGE_VARIABLES = (("flange_height", "flange height Sh"), ("flange_thickness", "flange thickness Sd"),
+                    ("flange_gradient", "flange gradient qR"))
 
 
 def _default_shifts():
@@ -575,6 +580,9 @@ class Wheelset(Body, name="wheelset"):
             "surface_depth": (("wheel", "angle", "lateral"), -np.array(records["u"][-1]),
                               {"units": "m", "long_name": "depth removed at the end over angle and lateral position"}),
         })
+        flange = np.array([[astuple(flange_parameters(p.profile(d))) for d in at] for at in depth])
+        for k, (name, long_name) in enumerate(FLANGE_VARIABLES):
+            data[name] = (("time", "wheel"), flange[..., k], {"units": "m", "long_name": long_name})
         if error is not None:
             data["worn_depth_final_standard_error"] = (
                 ("wheel", "lateral"), np.asarray(error[-1]),

@@ -9,6 +9,7 @@ from helpers import Killed, killed_after
 from railwear.dynamics import TableWheelsetModel
 from railwear.errors import ScenarioError
 from railwear.geometry import contact_table, load_profile, worn_profile
+from railwear.geometry.flange import flange_parameters
 from railwear.longterm.direct import Direct
 from railwear.longterm.stepwise import Stepwise
 from railwear.longterm.wheelset_wear import Wheelset, WheelsetWear, band_width, sweep_deposit
@@ -107,6 +108,11 @@ def test_the_run_feeds_its_worn_profile_into_the_table(profiles):
     assert float(centre.rolling_radius) == pytest.approx(0.46 + float(p.wheel(s)) - worn_there, abs=1e-9)
     change = np.abs(ds.rolling_radius_difference.values[-1] - ds.rolling_radius_difference.values[0])
     assert change.max() > 1e-7
+    # the flange parameters are the new S1002's at the start and those of each wheel's worn profile after
+    np.testing.assert_allclose(ds.flange_height.values[0], 0.028, atol=1e-4)
+    worn = flange_parameters(p.profile(ds.worn_depth.values[-1, 1]))
+    assert float(ds.flange_thickness[-1, 1]) == worn.thickness and float(ds.flange_height[-1, 1]) == worn.height
+    assert ds.flange_height.values[-1, 1] > ds.flange_height.values[0, 1]  # the tread wears, the tip does not
 
 
 def test_band_is_the_footprint_below_and_the_hunting_range_above(profiles):
