@@ -464,18 +464,20 @@ def report(ds):
              f"static load {_kn(w)} kN; the wheel on the ring track of {a['ring_sleepers']} sleeper bays of "
              f"{a['sleeper_spacing_m']:g} m (rail modes to {a['ring_max_frequency_hz']:g} Hz), {a['revolutions']} "
              f"revolutions recorded after {a['transient_s']:g} s at each speed", "",
-             "  speed   peak   increment  minimum  contact lost      sleeper ripple  largest order     flagged by",
-             "  km/h    kN     kN (x W)    kN       % of time, where  kN (round)      n: kN"]
+             f"  {'speed':>5}  {'peak':>5}  {'increment':<14}  {'least':>5}  {'contact lost (the longest loss)':<40}  "
+             f"{'sleeper':>9}  {'largest':>7}  flagged by",
+             f"  {'km/h':>5}  {'kN':>5}  {'kN (x W)':<14}  {'kN':>5}  {'time, wheel angle, past a sleeper':<40}  "
+             f"{'ripple kN':>9}  {'order: kN'}"]
     for i, row in enumerate(table_rows(ds)):
         p = ds.isel(speed=i)
         lost = "-"
         if row["contact_loss_fraction"] > 0:
-            lost = (f"{100 * row['contact_loss_fraction']:.1f} % at {np.degrees(float(p.contact_loss_angle)):.0f} deg, "
+            lost = (f"{100 * row['contact_loss_fraction']:.2g} %, {np.degrees(float(p.contact_loss_angle)):.0f} deg, "
                     f"{float(p.contact_loss_offset) / MM:.0f} mm past a sleeper")
-        lines.append(f"  {row['speed_kmh']:5g}  {row['peak_force_kN']:6.1f}  {row['dynamic_increment_kN']:5.1f} "
-                     f"(x{row['dynamic_factor']:.2f})  {row['minimum_force_kN']:6.1f}  {lost:<16}  "
-                     f"{row['sleeper_ripple_kN']:6.2f}          {row['largest_order']:3d}: {row['largest_order_force_kN']:6.2f}"
-                     f"     {row['flagged_by']}")
+        increment = f"{row['dynamic_increment_kN']:.1f} (x{row['dynamic_factor']:.2f})"
+        lines.append(f"  {row['speed_kmh']:5g}  {row['peak_force_kN']:5.1f}  {increment:<14}  "
+                     f"{row['minimum_force_kN']:5.1f}  {lost:<40}  {row['sleeper_ripple_kN']:9.2f}  "
+                     f"{row['largest_order']:5d}: {row['largest_order_force_kN']:<5.1f}  {row['flagged_by']}")
     peak = ds.peak_force.values
     j = int(np.argmax(peak))
     low = int(np.argmin(ds.threshold.values))
@@ -500,16 +502,23 @@ def report(ds):
     return "\n".join(lines) + "\n"
 
 
-def peak_figure(ds):
+def peak_figure(ds, label=None, others=()):
     """The peak and the least force (kN) over the speed, with the static load, the round wheel's
-    peak (the sleeper passing alone) and the detector thresholds as lines."""
+    peak (the sleeper passing alone) and the detector thresholds as lines; ``label`` names the
+    wheel, ``others`` are ``(label, dataset)`` of other wheels whose peak and least force are drawn
+    beside (hollow markers)."""
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(8, 5), layout="constrained")
+    fig = Figure(figsize=(8, 5.5), layout="constrained")
     ax = fig.subplots()
     kmh = ds.speed_kmh.values
-    ax.plot(kmh, ds.peak_force.values / KN, "o-", color="C3", label="peak force")
-    ax.plot(kmh, ds.minimum_force.values / KN, "v-", color="C0", label="least force (0: contact lost)")
+    named = f", {label}" if label else ""
+    ax.plot(kmh, ds.peak_force.values / KN, "o-", color="C3", label=f"peak force{named}")
+    ax.plot(kmh, ds.minimum_force.values / KN, "v-", color="C0", label=f"least force{named} (0: contact lost)")
+    for other, o in others:
+        ax.plot(o.speed_kmh.values, o.peak_force.values / KN, "o--", color="C3", mfc="none", label=f"peak force, {other}")
+        ax.plot(o.speed_kmh.values, o.minimum_force.values / KN, "v--", color="C0", mfc="none",
+                label=f"least force, {other}")
     ax.plot(kmh, ds.round_peak_force.values / KN, ":", color="0.3", label="round wheel's peak (sleeper passing)")
     ax.axhline(float(ds.static_load) / KN, color="k", lw=0.8, label=f"static load {float(ds.static_load) / KN:.1f} kN")
     styles = ("--", "-.", (0, (5, 2, 1, 2)), (0, (1, 1)))
@@ -518,7 +527,8 @@ def peak_figure(ds):
                    ls=styles[d % len(styles)], lw=1.2,
                    label=f"{ds.detector_who.values[d]}: {ds.detector_action.values[d]}, "
                          f"{ds.threshold.values[d] / KN:.0f} kN")
-    top = max(ds.threshold.values.max(), np.nanmax(ds.peak_force.values)) / KN
+    top = max([ds.threshold.values.max(), np.nanmax(ds.peak_force.values)]
+              + [np.nanmax(o.peak_force.values) for _, o in others]) / KN
     ax.set_ylim(0, 1.08 * top)
     if kmh.size == 1:
         ax.set_xlim(kmh[0] - 10, kmh[0] + 10)
