@@ -21,7 +21,7 @@ from railwear.results import read_netcdf
 from railwear.scenario import load_scenario
 from railwear.units import KM, MM, UM
 
-POINTS = 256
+POINTS = 128
 SCENARIO = load_scenario("metro", [f"solver.points={POINTS}"])
 SPEED = 70 / 3.6  # m/s: the metro's
 SIGMA0, SLOPE, DRIFT = 4e-7, 1.5, 2e-7  # 1/s at 810 mm, its relative change per m of diameter, rad/s per order
