@@ -201,7 +201,7 @@ def _speed_run(inputs, ring, speed):
     settle = per * math.ceil(float(inputs.transient) / turn - 1e-9)
     t0, x0 = settle * dt, float(inputs.start_position)
     out = []
-    for model in (shaped, round_wheel):
+    for model in (shaped, round_wheel) if np.any(u) else (round_wheel,):  # a round wheel runs once
         dyn = WheelOnRing(model, ring, dt)
         p, surf = model.params(), model.surface()
         y = dyn.static_state(x0, model.initial_lift)
@@ -209,7 +209,7 @@ def _speed_run(inputs, ring, speed):
             y, _ = dyn.run(y, 0.0, settle, x0, p, surf)
         _, records = dyn.run(y, t0, int(inputs.revolutions) * per, x0 + speed * t0, p, surf, every=1)
         out.append(records[:-1])  # whole revolutions: the last row is the first of the next
-    return out[0], out[1], shaped, dt, per, t0
+    return out[0], out[-1], shaped, dt, per, t0
 
 
 def _loss(force, angle, position, spacing, revolutions):
