@@ -8,7 +8,7 @@ import railwear
 ROOT = Path(railwear.__file__).resolve().parent
 # layer of each top-level module or subpackage (docs/architecture.md); within layer 1, geometry
 # and wear may use contact
-LAYER = {"errors": 0, "units": 0, "registry": 0, "textfiles": 0, "_numba_cache": 0, "contact": 1, "geometry": 1, "wear": 1, "dynamics": 2, "track": 2,
+LAYER = {"errors": 0, "units": 0, "registry": 0, "textfiles": 0, "checkpoints": 0, "_numba_cache": 0, "contact": 1, "geometry": 1, "wear": 1, "dynamics": 2, "track": 2,
          "pde": 2, "longterm": 3, "scenario": 4, "results": 4, "plots": 4, "sweep": 4, "analysis": 4,
          "forecast": 4, "api": 4, "measured": 4, "report": 4, "maintenance": 4, "cli": 5, "__main__": 6, "__init__": 6}
 
