@@ -560,7 +560,7 @@ def _print_sweep_table(ds):
     from rich.console import Console
     from rich.table import Table
 
-    from railwear.results import percent
+    from railwear.results import daily_distance_km, percent
     from railwear.units import MM
 
     fields = [c for c in ds.coords if c != "angle"]
@@ -569,6 +569,8 @@ def _print_sweep_table(ds):
     if limit:
         head.append(f"to {float(ds.peak_to_peak_limit) / MM:g} mm p-p (km)" if "peak_to_peak_limit" in ds
                     else "to the limit (km)")
+    if "limit_months" in ds:
+        head.append(f"months at {daily_distance_km(ds) or 0:g} km/day")
     if "dominant_growth_per_10000_km" in ds:
         head.append("growth / 10 000 km")
     head.append("depth (mm)")
@@ -585,6 +587,8 @@ def _print_sweep_table(ds):
             km = float(p.limit_distance)
             row.append(f"{km:,.0f}" if np.isfinite(km) else
                        f"beyond {float(p.distance_run):,.0f}" if ran and "distance_run" in p else "-")
+        if "limit_months" in ds:
+            row.append(f"{float(p.limit_months):.1f}" if np.isfinite(float(p.limit_months)) else "-")
         if "dominant_growth_per_10000_km" in ds:
             g = float(p.dominant_growth_per_10000_km)
             row.append(percent(g / 100) if np.isfinite(g) else ("undefined" if ran else "-"))

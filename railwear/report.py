@@ -97,13 +97,16 @@ def polygon_rows(entry):
                              ("max_removed_depth_mm", "removed at the most worn spot", "mm"),
                              ("distance_km", "distance run", "km"),
                              ("peak_to_peak_limit_mm", "out-of-roundness limit, peak to peak", "mm"),
-                             ("limit_distance_km", "distance to the limit", "km")):
+                             ("limit_distance_km", "distance to the limit", "km"),
+                             ("limit_months", "time to the limit at the scenario's daily mileage", "months")):
         if key in entry:
             value = entry[key]
             if key == "limit_distance_km" and value is None:
                 value = f"not reached in {entry['distance_km']:,.0f} km"
             elif unit == "km":
                 value = f"{value:,.0f}"
+            elif unit == "months":
+                value = f"{value:.1f}"
             out.append((label, value, unit))
     return out
 

@@ -292,7 +292,32 @@ def _polygon(d, entry, life):
         limit = float(d.peak_to_peak_limit)
         out["peak_to_peak_limit_mm"] = limit / MM
         out["limit_distance_km"] = entry["distance_km"] if float(d.peak_to_peak) >= limit * (1 - 1e-9) else None
+        daily = daily_distance_km(d)
+        if daily and out["limit_distance_km"] is not None:
+            out["daily_distance_km"] = daily
+            out["limit_months"] = months(out["limit_distance_km"], daily)
     return out, why
+
+
+DAYS_PER_MONTH = 365.25 / 12
+
+
+def daily_distance_km(ds):
+    """The daily mileage (km) of the scenario stored with the result or sweep ``ds`` (``[operation]
+    daily_distance_km``), or None where it gives none."""
+    import tomllib
+
+    try:
+        text = ds.attrs.get("scenario", ds.attrs.get("base_scenario", ""))
+        value = tomllib.loads(text).get("operation", {}).get("daily_distance_km")
+    except tomllib.TOMLDecodeError:
+        return None
+    return float(value) if isinstance(value, (int, float)) and value > 0 else None
+
+
+def months(km, daily_km):
+    """A distance (km) in months of service at ``daily_km`` km a day (a month: 365.25 / 12 days)."""
+    return km / daily_km / DAYS_PER_MONTH
 
 
 def with_wheel_regime(ds):
@@ -385,6 +410,8 @@ def run_lines(r):
     if "peak_to_peak_limit_mm" in r:
         reached = (f"reached after {r['limit_distance_km']:,.0f} km" if r["limit_distance_km"] is not None
                    else f"not reached in {r['distance_km']:,.0f} km")
+        if "limit_months" in r:
+            reached += f", {r['limit_months']:.1f} months at {r['daily_distance_km']:g} km a day"
         lines.append(f"out-of-roundness limit {r['peak_to_peak_limit_mm']:g} mm peak to peak: {reached}")
     return lines
 

@@ -26,6 +26,7 @@ POINT_SCALARS = {
     "dominant_order": ("1", "order of the largest harmonic at the end"),
     "maxima": ("1", "radius maxima round the wheel at the end"),
     "limit_distance": ("km", "distance to the out-of-roundness limit (peak to peak)"),
+    "limit_months": ("months", "time to the out-of-roundness limit at the scenario's daily mileage"),
     "distance_run": ("km", "distance the run went"),
     "dominant_growth_per_10000_km": ("percent", "growth of the dominant order per 10 000 km"),
     "max_removed_depth": ("m", "largest radius lost (most worn spot)"),
@@ -35,7 +36,7 @@ POINT_SCALARS = {
     "spectral_tail": ("1", "top quarter of the kept orders over the largest amplitude (resolution)"),
 }
 INTEGERS = ("dominant_order", "maxima")  # stored as integers; FAILED where the point did not run
-OPTIONAL = ("limit_distance", "distance_run", "dominant_growth_per_10000_km")  # where the runs give them
+OPTIONAL = ("limit_distance", "limit_months", "distance_run", "dominant_growth_per_10000_km")  # where the runs give them
 FAILED = -1
 NOT_REACHED = "the out-of-roundness limit was not reached within the run (see distance_run)"
 FAILED_POINT = "the point failed (see error)"
@@ -190,7 +191,7 @@ def reduce_result(ds):
     from railwear.longterm.spectra import UNDEFINED
 
     keep = ["amplitude", "regime", "peak_to_peak_limit", *POINT_SCALARS]
-    derived = ("max_removed_depth", "limit_distance", "distance_run", "dominant_growth_per_10000_km")
+    derived = ("max_removed_depth", "limit_distance", "limit_months", "distance_run", "dominant_growth_per_10000_km")
     out = ds[[k for k in keep if k in ds and k not in derived]]
     out["max_removed_depth"] = ds.removed_depth.isel(time=-1, drop=True).assign_attrs(
         units="m", long_name=POINT_SCALARS["max_removed_depth"][1])
@@ -203,6 +204,11 @@ def reduce_result(ds):
             out["limit_distance"] = run.where(reached).assign_attrs(
                 units="km", long_name=POINT_SCALARS["limit_distance"][1],
                 **({} if bool(reached.all()) else {UNDEFINED: NOT_REACHED}))
+            daily = results.daily_distance_km(ds)
+            if daily:  # [operation] daily_distance_km: the same in months of service
+                out["limit_months"] = (out["limit_distance"] / (daily * results.DAYS_PER_MONTH)).assign_attrs(
+                    units="months", long_name=POINT_SCALARS["limit_months"][1],
+                    **({} if bool(reached.all()) else {UNDEFINED: NOT_REACHED}))
         growth, notes = [], []
         for _, d in results._runs(ds):
             value, note = (float("nan"), results.ROUND_WHEEL) if results.is_round(float(d.peak_to_peak)) else \

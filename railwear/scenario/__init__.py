@@ -329,6 +329,9 @@ def to_toml(scenario: Scenario):
 
 
 def scenario_hash(scenario: Scenario):
-    """SHA-256 of the scenario's canonical JSON (hex)."""
-    canonical = json.dumps(scenario.model_dump(mode="json"), sort_keys=True, separators=(",", ":"))
+    """SHA-256 of the scenario's canonical JSON (hex). A field added later with no effect on the
+    run left unset (``operation.daily_distance_km``) is left out, so the hashes of earlier
+    scenarios and checkpoints hold."""
+    unset = {"operation": {"daily_distance_km"}} if scenario.operation.daily_distance_km is None else None
+    canonical = json.dumps(scenario.model_dump(mode="json", exclude=unset), sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(canonical.encode()).hexdigest()

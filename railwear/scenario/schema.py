@@ -233,6 +233,8 @@ class Operation(_Section):
     speed_kmh: Speed_kmh | Annotated[list[Speed_kmh], Field(max_length=MAX_LIST)] | None = None
     speed_m_s: Speed_m_s | Annotated[list[Speed_m_s], Field(max_length=MAX_LIST)] | None = None
     life_distance_km: Annotated[float, Field(ge=1e-3, le=1e8)] = 50000.0  # a metre to 40 wheel lives
+    # the wheel's mean daily mileage in service: distances to a limit are also said in months
+    daily_distance_km: Annotated[float, Field(gt=0.0, le=5000.0)] | None = None
     cycle: Annotated[list[DutySegmentSection], Field(min_length=1, max_length=MAX_LIST)] | None = None
     line: LineSection | None = None
 
