@@ -659,29 +659,43 @@ def plan_policies(
     horizon_km: Annotated[float, typer.Option(help="a life not scrapped by then ends there, not scrapped")] = 1e7,
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-plan"),
     figures: Annotated[bool, typer.Option(help="write the figure as PNG")] = True,
+    checkpoint_every: Annotated[float, typer.Option(
+        help="seconds of wall time between checkpoints of the finished lives (DIR/plan-checkpoint.npz)")] = 30.0,
+    resume: Annotated[bool, typer.Option(help="keep the lives of DIR/plan-checkpoint.npz, written by a stopped run "
+                                              "of the same plan, and run the rest")] = False,
     sets: Sets = [],
     fmt: Format = "png",
     dpi: Dpi = 120,
 ):
     """A wheel's life to scrap under maintenance policies: turnings, distance to scrap, km per mm of
     diameter; DIR/plan.nc, plan.txt, plan.csv, turnings.csv, plan.png."""
+    from railwear.checkpoints import Periodic
     from railwear.maintenance import outputs
     from railwear.maintenance.plan import plan
 
     _option(horizon_km, "--horizon-km", 1e3, 1e8)
+    _option(checkpoint_every, "--checkpoint-every", 0, 1e9)
     _figure_options(fmt, dpi)
     if not policy:
         _fail("--policy: give at least one policy file or built-in name (metro-interval, metro-condition, metro-noise)", 2)
     multipliers = _parse_range(growth, "--growth")
     try:
-        _output(output)
+        path = _output(output) / outputs.CHECKPOINT
+        if resume and not path.is_file():
+            _fail(f"--resume: no plan checkpoint in {output} (expected {path.name})", 2)
+        stopped = outputs.read_checkpoint(path) if resume else None
+        if not resume:
+            path.unlink(missing_ok=True)  # an earlier run's: only the newest resumes
+        save = Periodic(lambda state: outputs.write_checkpoint(state, path), checkpoint_every)
         with _Warnings(), _Progress("railwear plan") as progress:
-            ds = plan(_scenario(scenario, sets), policy, samples, seed, multipliers, horizon_km, progress=progress)
+            ds = plan(_scenario(scenario, sets), policy, samples, seed, multipliers, horizon_km, progress=progress,
+                      checkpoint=save, resume=stopped)
     except ScenarioError as e:
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
         _run_failed(e, output)
     paths = outputs.write(ds, output, fmt, dpi, figures)
+    path.unlink(missing_ok=True)
     typer.echo(outputs.report(ds), nl=False)
     typer.echo(f"wrote {', '.join(str(p) for p in paths)}")
 

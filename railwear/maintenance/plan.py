@@ -12,13 +12,17 @@ millimetre of diameter ``S / (D_0 - D_end)`` and the turnings per 10‚Å∂ km ``10‚
 the drawn wheels the median of ``S`` with its 5-95 % band.
 """
 
+import hashlib
+from dataclasses import dataclass
+
 import numpy as np
 import xarray as xr
 
+from railwear.checkpoints import wanted
 from railwear.errors import OptionError, ScenarioError
 from railwear.longterm.spectra import UNDEFINED
 from railwear.maintenance.policy import load_policy
-from railwear.maintenance.turning import RateTable, WheelState
+from railwear.maintenance.turning import Life, RateTable, TurnRecord, WheelState
 from railwear.scenario import build, load_scenario, scenario_hash, to_toml
 from railwear.units import KM, MM, m_s_to_kmh
 
@@ -115,13 +119,15 @@ def _policies(policies, base, diameter):
 
 
 def plan(scenario=None, policies=("metro-interval",), samples=0, seed=None, growth=GROWTH, horizon_km=HORIZON_KM,
-         resolution_km=RESOLUTION_KM, progress=None):
+         resolution_km=RESOLUTION_KM, progress=None, checkpoint=None, resume=None):
     """Each policy's life of the scenario's wheel at each growth multiplier: wheel 0 at the
     scenario's conditions, and ``samples`` wheels drawn from its ``[service]`` (``seed``, default
     ``service.seed``). ``scenario`` a :class:`~railwear.scenario.Scenario`, file or built-in name
     whose body gives a linear model (the Fourier technique); ``policies`` files or built-in names
     (:func:`~railwear.maintenance.policy.load_policy`). Returns an ``xarray.Dataset``
-    (:func:`dataset`)."""
+    (:func:`dataset`). ``checkpoint(PlanCheckpoint)`` is offered the finished lives after each
+    (:func:`railwear.checkpoints.wanted`); ``resume`` (a :class:`PlanCheckpoint` of the same plan)
+    keeps its lives, which are deterministic, so the result is the uninterrupted one bit for bit."""
     sc = load_scenario(scenario)
     if not (isinstance(samples, (int, np.integer)) and 0 <= samples <= MAX_SAMPLES):
         raise OptionError(f"samples: a whole number in [0, {MAX_SAMPLES}], got {samples!r}")
@@ -135,18 +141,75 @@ def plan(scenario=None, policies=("metro-interval",), samples=0, seed=None, grow
     scenarios, speed, load, friction = wheel_conditions(sc, samples, seed)
     wheels = [WheelRates(s, base.size // 2) for s in scenarios]
     wheels[0].at(diameter)  # a scenario without a linear model is refused here, before any life
-    lives, total, done = {}, len(wheels) * len(built) * len(growth), 0
+    key = _fingerprint(sc, files, growth, samples, seed, horizon_km, resolution_km)
+    if resume is not None and resume.fingerprint != key:
+        raise ScenarioError("resume: the plan checkpoint was written for another plan (scenario, policies, samples, "
+                            "seed, growth, horizon or resolution differ); run without --resume")
+    lives = {} if resume is None else dict(resume.lives)
+    total, done = len(wheels) * len(built) * len(growth), 0
     for w, wheel in enumerate(wheels):
         for p, policy in enumerate(built):
             for g, multiplier in enumerate(growth):
-                lives[p, g, w] = policy.life(WheelState(base, diameter), lambda d, m=multiplier, r=wheel: r.at(d, m),
-                                             horizon_km * KM, resolution_km * KM)
+                if (p, g, w) not in lives:
+                    lives[p, g, w] = policy.life(WheelState(base, diameter), lambda d, m=multiplier, r=wheel: r.at(d, m),
+                                                 horizon_km * KM, resolution_km * KM)
+                    if wanted(checkpoint):
+                        checkpoint(PlanCheckpoint(key, dict(lives)))
                 done += 1
                 if progress is not None:
                     progress(done / total)
     return dataset(sc, files, built, growth, lives, speed, load, friction,
                    {"samples": samples, "seed": sc.service.seed if seed is None else seed, "horizon_km": horizon_km,
                     "resolution_km": resolution_km})
+
+
+def _fingerprint(scenario, files, growth, samples, seed, horizon_km, resolution_km):
+    """What makes a plan's lives what they are: the scenario, the policies and the options."""
+    text = "\n".join([scenario_hash(scenario), *(f.model_dump_json() for f in files), repr(tuple(growth)),
+                      repr((samples, seed, float(horizon_km), float(resolution_km)))])
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+_RECORD_FLOATS = ("distance", "peak_to_peak", "cut", "before", "after")
+_STATE_FLOATS = ("diameter", "distance", "since")
+
+
+@dataclass(frozen=True)
+class PlanCheckpoint:
+    """The finished lives of a plan, ``{(policy, growth, wheel): Life}``, with the plan's ``fingerprint``."""
+
+    fingerprint: str
+    lives: dict
+
+    def plain(self) -> dict:
+        """Arrays only (``.npz`` without pickles); :meth:`from_plain` reads them back exactly."""
+        out = {"fingerprint": np.array(self.fingerprint), "keys": np.array(sorted(self.lives), np.int64).reshape(-1, 3)}
+        for i, k in enumerate(sorted(self.lives)):
+            life = self.lives[k]
+            states = (*life.starts, life.end)
+            out.update({
+                f"{i}_records": np.array([[getattr(r, f) for f in _RECORD_FLOATS] for r in life.turnings], float).reshape(-1, 5),
+                f"{i}_orders": np.array([[r.dominant_order, r.selected_order] for r in life.turnings], np.int64).reshape(-1, 2),
+                f"{i}_triggers": np.array([r.trigger for r in life.turnings], str),
+                f"{i}_u": np.stack([s.u for s in states]),
+                f"{i}_states": np.array([[getattr(s, f) for f in _STATE_FLOATS] for s in states], float),
+                f"{i}_turned": np.array([s.turnings for s in states], np.int64),
+                f"{i}_end": np.array([life.reason]), f"{i}_selected": np.array(life.selected_order, np.int64),
+                **{f"{i}_history{j}": np.asarray(h) for j, h in enumerate(life.history)}})
+        return out
+
+    @classmethod
+    def from_plain(cls, data):
+        lives = {}
+        for i, k in enumerate(map(tuple, np.asarray(data["keys"]).tolist())):
+            records = tuple(TurnRecord(**dict(zip(_RECORD_FLOATS, map(float, row))), trigger=str(t),
+                                       dominant_order=int(o[0]), selected_order=int(o[1]))
+                            for row, o, t in zip(data[f"{i}_records"], data[f"{i}_orders"], data[f"{i}_triggers"]))
+            states = tuple(WheelState(u, *map(float, f), int(n))
+                           for u, f, n in zip(data[f"{i}_u"], data[f"{i}_states"], data[f"{i}_turned"]))
+            lives[k] = Life(records, states[:-1], states[-1], str(data[f"{i}_end"][0]), int(data[f"{i}_selected"]),
+                            tuple(np.asarray(data[f"{i}_history{j}"]) for j in range(3)))
+        return cls(str(data["fingerprint"]), lives)
 
 
 def _life_values(life, diameter):

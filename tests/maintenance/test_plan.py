@@ -115,3 +115,23 @@ def test_railwear_plan_runs_in_a_fresh_interpreter(tmp_path):
     assert refused.returncode == 2
     assert refused.stderr.strip().splitlines()[-1] == (
         "railwear: error: bad.toml: field 'cut.step_mm': Input should be greater than or equal to 0.01")
+
+
+def test_a_killed_plan_resumes_from_its_file_to_the_same_lives(drawn, tmp_path):
+    """Killed after its third life, the plan's last checkpoint written to and read from a file,
+    resumed: identical to the uninterrupted plan; another plan's checkpoint is refused."""
+    from helpers import Killed, killed_after
+
+    saved = []
+    with pytest.raises(Killed):
+        plan(METRO, ["metro-condition", "metro-interval"], samples=2, seed=5, growth=(0.5, 2.0), horizon_km=450_000,
+             checkpoint=killed_after(3, saved))
+    assert len(saved[-1].lives) == 3
+    outputs.write_checkpoint(saved[-1], tmp_path / outputs.CHECKPOINT)
+    stopped = outputs.read_checkpoint(tmp_path / outputs.CHECKPOINT)
+    resumed = plan(METRO, ["metro-condition", "metro-interval"], samples=2, seed=5, growth=(0.5, 2.0),
+                   horizon_km=450_000, resume=stopped)
+    xr.testing.assert_identical(drawn, resumed)
+    with pytest.raises(ScenarioError, match="resume: the plan checkpoint was written for another plan"):
+        plan(METRO, ["metro-condition", "metro-interval"], samples=2, seed=6, growth=(0.5, 2.0), horizon_km=450_000,
+             resume=stopped)
