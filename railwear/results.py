@@ -218,7 +218,14 @@ def summary(ds: xr.Dataset):
         why.update(notes)
         out.append(_defined(entry, why))
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
-            "railwear_version": ds.attrs.get("railwear_version", ""), **_demand(ds), "runs": out}
+            "railwear_version": ds.attrs.get("railwear_version", ""), **_demand(ds), **_scope(ds), "runs": out}
+
+
+def _scope(ds):
+    """What the model was validated against and why the run lies outside it, where it does
+    (``api.run``'s ``validated_against`` and ``outside_validation``)."""
+    keys = ("validated_against", "outside_validation")
+    return {k: ds.attrs[k] for k in keys} if "outside_validation" in ds.attrs else {}
 
 
 def _runs(ds):
@@ -367,6 +374,9 @@ def summary_text(s):
         lines.append(f"  service: {s['demand']['duty_cycle']}")
     for r in s["runs"]:
         lines.extend("  " + line for line in run_lines(r))
+    if "outside_validation" in s:
+        lines.append(f"  validated against: {s['validated_against']}")
+        lines.extend(f"  outside it: {note}" for note in s["outside_validation"].split("; "))
     return "\n".join(lines) + "\n"
 
 

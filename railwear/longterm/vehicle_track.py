@@ -38,7 +38,7 @@ from railwear.longterm.fourier import Fourier, contact_filter, law_terms, stabil
 from railwear.track import Support, Track, load_offset, rail, receptance, support_set
 
 __all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "growth_parts", "METRO",
-           "HIGH_SPEED", "WheelsOnRail", "bay_offsets", "p2_frequency", "coupled_resonance"]
+           "HIGH_SPEED", "HIGH_SPEED_TRACK", "WheelsOnRail", "bay_offsets", "p2_frequency", "coupled_resonance"]
 
 GRAVITY = 9.81  # m/s²
 _RAIL_STATE = 6  # z_r in the disk wheel's state vector
@@ -461,22 +461,33 @@ METRO = VehicleCase(
 
 
 
-# High-speed trailer wheel (ICE3-like), 16 t axle load, with a wheelset bending mode at 580 Hz,
-# on the metro case's ballasted track (sources in docs/vehicle_track.md).
+# High-speed trailer wheel braking by its discs through the contact, on slab track (sources in
+# docs/vehicle_track.md, "The high-speed built-in"). A trailer wheel because its braking is the
+# one the field singles out (avoiding disc braking at high speed suppresses polygons, Shock Vib.
+# 2020, 2587152) and because it carries no traction: in cruise only its own rolling resistance.
+HIGH_SPEED_TRACK = "crts-slab-2019"  # the slab set of railwear/track/data/supports.toml (Shock Vib. 2019, 2015465)
+HIGH_SPEED_BRAKING = 0.92  # m/s²: CRH380A stops from 300 km/h within about 3760 m (People's Daily, 30 May 2011)
+ROTATING_ALLOWANCE = 0.08  # assumption, as railwear.longterm.duty.line_cycle takes it
 HIGH_SPEED = VehicleCase(
     name="high-speed",
-    diameter=0.92,
-    static_load=16e3 / 2 * GRAVITY,  # assumption: 16 t axle load
+    diameter=0.92,  # the survey's worst polygons, orders 16-29, are on 0.92 m wheels (doi 10.3969/j.issn.0258-2724.20210777)
+    static_load=16e3 / 2 * GRAVITY,  # assumption: 16 t axle load, under the China Standardized EMU's 17 t limit
     unsprung_mass=1800.0 / 2,  # ICE3/AVE S103 wheelset 1800 kg (Goicolea 2014)
-    wheel_inertia=100.0,  # assumption: half a trailer wheelset's polar inertia
+    wheel_inertia=100.0,  # assumption: half a trailer wheelset's polar inertia (wheels, axle, brake discs)
     sprung_mass=650.0,  # assumption: a quarter of a 2.6 t bogie frame
     primary_stiffness=1.2e6,  # per side (Goicolea 2014)
     primary_damping=10e3,  # per side (Goicolea 2014)
-    track=METRO.track,
-    traction_coefficient=0.035,  # assumption: cruising at high speed
-    band_width=0.025,
-    wheel_modes=((580.0, 500.0, 0.01),),  # assumption: a bending mode where order 20 passes at 300 km/h
-    sources="wheelset and primary suspension: Goicolea 2014 (REFERENCES.md); mode, loads, frame: assumptions",
+    track=Track(rail("60E1", loss_factor=0.02), support_set(HIGH_SPEED_TRACK).support,
+                sleeper_spacing=support_set(HIGH_SPEED_TRACK).sleeper_spacing),
+    traction_coefficient=-(1 + ROTATING_ALLOWANCE) * HIGH_SPEED_BRAKING / GRAVITY,  # disc braking, -0.101
+    band_width=0.025,  # assumption, as METRO
+    # 590 Hz: the middle of the bogie vibration measured at 565-616 Hz (Shock Vib. 2018, 6759105);
+    # modal mass at the contact 500 kg and damping ratio 1 %: assumptions (no modal analysis found)
+    wheel_modes=((590.0, 500.0, 0.01),),
+    sources=("wheel diameter: J. Southwest Jiaotong Univ., doi 10.3969/j.issn.0258-2724.20210777; wheelset mass and "
+             "primary suspension: Goicolea 2014; mode frequency: Shock Vib. 2018, 6759105 (565-616 Hz); braking rate: "
+             "CRH380A, 3760 m from 300 km/h (People's Daily, 30 May 2011); track: Shock Vib. 2019, 2015465, Table 2; "
+             "axle load, frame share, polar inertia, modal mass and damping, wear band: assumptions"),
 )
 
 

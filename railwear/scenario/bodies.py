@@ -137,13 +137,20 @@ class VehicleTrackSection(RollingWheel):
         duty = op.duty()
         speeds = m_s_to_kmh(np.atleast_1d(duty.speeds if duty else op.speeds))
         low, high = self.SPEEDS_KMH
-        if speeds.min() < low or speeds.max() > high:
-            notes.append(f"speed {speeds.min():g}-{speeds.max():g} km/h lies outside the {low:g}-{high:g} km/h of the field "
-                         "comparison; high-speed polygons (orders 18-26 at 250-350 km/h) are not reproduced")
         braking = duty.braking_share if duty else float(scenario.contact.traction_coefficient < 0)
+        if speeds.min() < low or speeds.max() > high:
+            text = f"speed {speeds.min():g}-{speeds.max():g} km/h lies outside the {low:g}-{high:g} km/h of the field comparison"
+            if speeds.max() > high:
+                text += (", and high-speed polygons (orders 18-26 at 250-350 km/h) are not reproduced under net traction"
+                         if braking == 0 else ", and at high speed orders near the field's 18-26 grow here only under braking, "
+                         "the order set weakly by a wheelset mode whose modal mass and damping are assumptions, and no "
+                         "measured growth rate has been compared (docs/vehicle_track.md, The high-speed built-in)")
+            notes.append(text)
         if braking > 0:
-            notes.append(f"braking over {braking:.0%} of the distance: with steady creep the short waves grow under "
-                         "braking; orders above about 15 are not credible until transient rolling contact is modelled")
+            mean = duty.mean_traction_coefficient if duty else scenario.contact.traction_coefficient
+            notes.append(f"braking over {braking:.0%} of the distance (mean creep force {mean:+.4f} x wheel load): under "
+                         "braking the rolling-radius term grows every order up to the contact filter, steady or non-steady "
+                         "contact alike (on the metro wheel it grows orders near 50 that the field does not report)")
         if "dominant_order" in ds and "order" in ds.dims:
             n = int(np.max(ds.dominant_order.values))
             model = self.linear_model(scenario, kmh_to_m_s(float(np.mean(speeds))))[0]

@@ -881,6 +881,8 @@ class Scenario(_Section):
         """The scenario as plain data (``model_dump`` options ``dump``; default JSON types without
         ``None``) without the fields that do not apply to its strategy and body."""
         data = self.model_dump(**{"mode": "json", "exclude_none": True, **dump})
+        if self.operation.cycle is not None or self.operation.line is not None:
+            data["contact"].pop("traction_coefficient", None)  # the duty cycle's segments carry the demand
         for name, serves in self.body.serves.items():
             if self.strategy.needs not in serves:
                 data["body"].pop(name, None)

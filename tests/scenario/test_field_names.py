@@ -70,8 +70,11 @@ def _cases():
                     seen.add((section, key))
                     cases.append((name, f"{section}.{key}", "1", f"{section}.{key}"))
         for path, value in fields.items():
-            section, field = path.split(".")
-            info = type(getattr(sc, section)).model_fields[field]
+            *sections, field = path.split(".")  # a nested table: operation.line.top_speed_kmh
+            owner = sc
+            for part in sections:
+                owner = getattr(owner, part)
+            info = type(owner).model_fields[field]
             bound, is_int = _bound(info.annotation, info.metadata)
             numeric = value is not None or bound is not None
             if path in seen or not numeric or (value is None and field in ("file",)):
