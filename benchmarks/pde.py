@@ -1,6 +1,7 @@
 """Benchmark of the evolution-equation solver (ETDRK4, pseudo-spectral) against the alternatives.
 
-Run: ``python benchmarks/pde.py`` (needs the ``bench`` extra for py-pde). In one run it
+Run: ``python benchmarks/pde.py`` (needs the ``bench`` extra for py-pde), or
+``python benchmarks/pde.py --batch`` for the batches alone (items 3 and 4). In one run it
 
 1. solves the same equation to the same accuracy with railwear, with py-pde and with
    ``scipy.integrate.solve_ivp``, each at the cheapest setting of a scan (time step, tolerance,
@@ -9,18 +10,20 @@ Run: ``python benchmarks/pde.py`` (needs the ``bench`` extra for py-pde). In one
    A. ``h = -u_xx + u_xx³`` with ``epsilon = 0.02``: an instability (orders 2..7 grow, the fastest
       at 12.5 per unit time) that saturates into the coarsening of a Cahn-Hilliard-like
       curvature field; 128 points resolve it (the reference changes by 2e-8 on 256 points).
-   B. the default scenario's physics (``disk_contact`` at 220 km/h, epsilon = 1e-4, nu = 1e-3,
-      512 points) over half of its run to 1 mm, as the same dealiased spectral system of ODEs for
-      railwear and ``solve_ivp`` (a time-integration comparison; py-pde's expressions cannot
-      state the pseudo-parabolic term, and 512 points do not converge this case in space, see
-      ``docs/performance.md``).
+   B. the Fig. 11 scenario's physics (the built-in ``polygonalisation``: ``disk_contact`` at
+      220 km/h, epsilon = 1e-4, nu = 1e-3, 1024 points) over half of its run to 1 mm, as the
+      same dealiased spectral system of ODEs for railwear and ``solve_ivp`` (a time-integration
+      comparison; py-pde's expressions cannot state the pseudo-parabolic term).
 
    py-pde is timed with its spectral Laplacian (``backend.numba.use_spectral``) on railwear's
    grid and with its default second-order stencils on grids fine enough for the target.
 
-2. times the solve of the default scenario at 512 points;
-3. times one step of a 64-speed batch against the batched-FFT floor;
-4. times ``railwear run`` on the default scenario in a fresh process.
+2. times the solve of the Fig. 11 scenario;
+3. times one step of a 64-speed batch at a fixed step against the batched-FFT floor;
+4. times the Fig. 11 scenario at 64 speeds with the step-size control, as one batch against the
+   loop of 64 single solves a user would write (the rows must be bit for bit the same), and a
+   batch of 16 for the batch-size exponent ``log(t64 / t16) / log 4``;
+5. times ``railwear run polygonalisation`` in a fresh process.
 
 The error is ``|u - u_ref|_2 / |u_ref - mean(u_ref)|_2``: normalised by the out-of-round part, so
 that the mean wear does not hide an error in the shape. "Cheapest setting": settings are scanned
@@ -68,8 +71,9 @@ REPEATS = 5
 # Problem A
 A_POINTS, A_T, A_EPS = 128, 1.0, 0.02
 A_H = Cubic(c1=-1.0, c3=1.0)
-# Problem B and the default scenario
-B_FRACTION = 0.5  # of the default run's time to the depth limit
+# Problem B and the Fig. 11 case
+CASE = "polygonalisation"  # the built-in scenario of the paper's Fig. 11
+B_FRACTION = 0.5  # of the case's run time to the depth limit
 
 
 # --------------------------------------------------------------------------------- utilities
@@ -333,11 +337,11 @@ def compare_a():
 
 # ------------------------------------------------------------------------------- problem B
 
-def default_case():
-    """The default scenario: wear-rate form, speed (m/s), u0, solver settings."""
+def fig11_case():
+    """The Fig. 11 scenario (:data:`CASE`): wear-rate form, speed (m/s), u0, solver settings."""
     from railwear.scenario import build, load_scenario
 
-    scenario = load_scenario(None)
+    scenario = load_scenario(CASE)
     solver = scenario.solver
     speeds = np.asarray(scenario.operation.speeds, float)
     depth = None if solver.depth_limit_mm is None else solver.depth_limit_mm * 1e-3
@@ -358,7 +362,7 @@ def compare_b(case, t_stop):
     speed = float(np.ravel(case["speed"])[0])
     t_end = B_FRACTION * t_stop
     n = case["u0"].size
-    print(f"\n== B. Default scenario physics ({case['name']}: disk_contact, {speed * 3.6:g} km/h, "
+    print(f"\n== B. The Fig. 11 scenario's physics ({case['name']}: disk_contact, {speed * 3.6:g} km/h, "
           f"epsilon {case['epsilon']:g}, nu {case['nu']:g}, {n} points), T = {t_end:.3g} "
           f"(half the run to the depth limit) ==")
 
@@ -416,7 +420,7 @@ def report(rows):
 # ------------------------------------------------------------------------- default and batch
 
 def time_default(case):
-    print(f"\n== Default scenario solve ({case['name']}, {case['u0'].size} points) ==")
+    print(f"\n== The Fig. 11 scenario's solve ({case['name']}, {case['u0'].size} points) ==")
     solve_default(case)  # compile / load the cache
     t, ds = best_of(lambda: solve_default(case))
     steps = float(ds.stop_time) / ds.attrs["time_step"]
@@ -428,7 +432,7 @@ def time_default(case):
     try:
         import railwear
 
-        t_run, _ = best_of(lambda: railwear.run(None), repeats=3)
+        t_run, _ = best_of(lambda: railwear.run(CASE), repeats=3)
         print(f"railwear.run() in process (solve, spectrum and attributes): {t_run:.3f} s")
     except (ImportError, AttributeError) as exc:  # pragma: no cover - API not there yet
         print(f"railwear.run() skipped: {exc}")
@@ -527,14 +531,57 @@ def time_batch(case, n_speeds=64, samples=12):
     return ratio
 
 
+def time_adaptive_batch(case, n_speeds=64, small=16):
+    """The case at ``n_speeds`` speeds (150 to 280 km/h) with its step-size control, to its depth
+    limit: one batched solve against the loop of single solves a user would write, and a batch
+    of every ``n_speeds / small``-th speed for the batch-size exponent. The rows' costs differ
+    (faster rows take more steps), so the exponent compares each batch with the loop over its own
+    rows: ``p = 1 + log(r_64 / r_16) / log 4``, ``r`` the batch's time over its loop's. All is
+    warmed first (a two-speed batch compiles and loads the loop) and timed once, wall and CPU time
+    (on a shared machine the CPU time is the steadier); the rows are compared bit for bit."""
+    n = case["u0"].size
+    print(f"\n== {n_speeds} speeds of the Fig. 11 case with the step-size control ({n} points, 150 to "
+          f"280 km/h, to the depth limit) ==")
+    speeds = np.linspace(150.0, 280.0, n_speeds) / 3.6
+    subset = slice(None, None, n_speeds // small)
+
+    def solve(speed):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return solve_default(case | {"speed": speed})
+
+    def timed(fn):
+        w, c = time.perf_counter(), time.process_time()
+        out = fn()
+        return out, np.array([time.perf_counter() - w, time.process_time() - c])
+
+    solve(speeds[:2])
+    batch, t_batch = timed(lambda: solve(speeds))
+    singles, t_singles = zip(*(timed(lambda v=v: solve(float(v))) for v in speeds))
+    _, t_small = timed(lambda: solve(speeds[subset]))
+    t_loop, t_loop_small = np.sum(t_singles, axis=0), np.sum(t_singles[subset], axis=0)
+    same = all(np.array_equal(batch.u.values[: one.sizes["time"], i], one.u.values)
+               and batch.stop_time.values[i] == float(one.stop_time) for i, one in enumerate(singles))
+    ratio, ratio_small = t_batch / t_loop, t_small / t_loop_small
+    exponent = 1 + np.log(ratio / ratio_small) / np.log(n_speeds / small)
+    print(f"one batch of {n_speeds}: {t_batch[0]:.2f} s ({t_batch[1]:.2f} s CPU); the loop of {n_speeds} "
+          f"single solves: {t_loop[0]:.2f} s ({t_loop[1]:.2f} s CPU); batch / loop = {ratio[0]:.2f} wall, "
+          f"{ratio[1]:.2f} CPU (target < 1: {'met' if ratio[1] < 1 else 'MISSED'}); rows bit for bit the "
+          f"single solves: {same}")
+    print(f"batch of {small} (every {n_speeds // small}th speed): {t_small[0]:.2f} s ({t_small[1]:.2f} s CPU), "
+          f"batch / loop = {ratio_small[0]:.2f} wall, {ratio_small[1]:.2f} CPU; batch-size exponent "
+          f"{exponent[0]:.2f} wall, {exponent[1]:.2f} CPU (target <= 1: {'met' if exponent[1] <= 1 else 'MISSED'})")
+    return ratio, exponent
+
+
 def time_command():
-    print("\n== `railwear run` on the default scenario, fresh process ==")
+    print(f"\n== `railwear run {CASE}`, fresh process ==")
     exe = shutil.which("railwear")
     if exe is None or subprocess.run([exe, "run", "--help"], capture_output=True).returncode:
         print("skipped: the `railwear run` command is not available")
         return None
     with tempfile.TemporaryDirectory() as out:
-        cmd = [exe, "run", "-o", out]
+        cmd = [exe, "run", CASE, "-o", out]
         subprocess.run(cmd, capture_output=True, check=True)  # warm the compilation caches
         times = []
         for _ in range(3):
@@ -543,24 +590,28 @@ def time_command():
             times.append(time.perf_counter() - t0)
     best = min(times)
     verdict = "met" if best < 10 else "MISSED"
-    print(f"`railwear run -o DIR` (result, summary, figures), caches warm: best of 3 {best:.2f} s, "
+    print(f"`railwear run {CASE} -o DIR` (result, summary, figures), caches warm: best of 3 {best:.2f} s, "
           f"worst {max(times):.2f} s (target < 10 s: {verdict})")
     return best
 
 
 def main():
+    batch_only = "--batch" in sys.argv[1:]
     t_start = time.perf_counter()
     cpu, cores, usable, load = machine()
     print(f"machine: {cpu}, {cores} logical cores ({usable} usable), load average {load:.2f}")
     print(f"versions: {versions()}; railwear revision {revision()}")
     print(f"BLAS threads: {os.environ['OPENBLAS_NUM_THREADS']} (OPENBLAS_NUM_THREADS)")
-    print(f"command: python benchmarks/pde.py; target error {TARGET_ERROR:g}")
-    compare_a()
-    case = default_case()
-    _, ds = time_default(case)
-    compare_b(case, float(ds.stop_time))
+    print(f"command: python benchmarks/pde.py{' --batch' if batch_only else ''}; target error {TARGET_ERROR:g}")
+    case = fig11_case()
+    if not batch_only:
+        compare_a()
+        _, ds = time_default(case)
+        compare_b(case, float(ds.stop_time))
     time_batch(case)
-    time_command()
+    time_adaptive_batch(case)
+    if not batch_only:
+        time_command()
     print(f"\nwhole benchmark: {time.perf_counter() - t_start:.0f} s")
 
 

@@ -274,17 +274,27 @@ class _Loop:
         return co
 
     def _advance(self, v, row_steps, t0, active, stop_time, slot):
-        """Advance ``v`` in place over one interval in ``row_steps`` per row; returns the status."""
-        rows = active if self.eq.compiled else np.ones_like(active)
-        co = self._weights(row_steps, rows, slot)
-        if self.eq.compiled:
-            status, _ = advance_compiled(
-                v, self.eq.n, co.E, co.E2, co.Q, co.f1, co.f2, co.f3, *self.multipliers,
-                *self.terms, row_steps, co.dt, t0, active, stop_time, self.u_start, self.depth, self.blowup)
-        else:
+        """Advance ``v`` in place over one interval in ``row_steps`` per row; returns the status.
+
+        The compiled loop is called once per step count: it gathers its running rows anew
+        whenever one is done, which with every row's count different would copy the whole batch
+        once per row and interval (a cost that grows as the batch size squared)."""
+        if not self.eq.compiled:
+            co = self._weights(row_steps, np.ones_like(active), slot)
             status, _ = advance_python(v, co, lambda w: self.eq.nonlinear(w, self.S), int(row_steps[0]), t0,
                                        active, stop_time, self.u_start, self.depth, self.blowup)
-        return status
+            return status
+        co = self._weights(row_steps, active, slot)
+        for m in np.unique(row_steps[active]):
+            group = active & (row_steps == m)
+            running = group.copy()
+            status, _ = advance_compiled(
+                v, self.eq.n, co.E, co.E2, co.Q, co.f1, co.f2, co.f3, *self.multipliers,
+                *self.terms, row_steps, co.dt, t0, running, stop_time, self.u_start, self.depth, self.blowup)
+            active[group] = running[group]
+            if status != OK:
+                return status
+        return OK
 
     def _attempt(self, v_start, stop_start, rows, row_steps, t0, slot):
         """The ``rows`` (a mask) over the interval from ``v_start``: ``(v, active, stop_time,
