@@ -1,5 +1,6 @@
 """The ``railwear`` command (layer 5). Exit status: 0 success, 1 a run failed, 2 bad input."""
 
+import os
 import sys
 from pathlib import Path
 from typing import Annotated, Optional
@@ -122,7 +123,8 @@ def compile_listener(delay=None, echo=None):
     return Notice()
 
 
-_state = {"output": None}  # the output folder of the command running, for the log of a bug
+_state = {"output": None,  # the output folder of the command running, for the log of a bug
+          "own_process": False}  # run by main(): the process is the command's (not a test's), and may fork
 
 
 def _fail(message, status):
@@ -239,6 +241,32 @@ _FILES = (
 )
 
 
+# The maintenance files (plan.nc, fleet.nc, load.nc): how each is known and the module of
+# railwear.maintenance that draws its figures and writes its one-file report.
+_MAINTENANCE = (
+    ("plan.nc", lambda ds: "distance_to_scrap" in ds and "policy" in ds.dims, "outputs"),
+    ("fleet.nc", lambda ds: "distance_to_action" in ds and "wheel" in ds.dims, "fleet"),
+    ("load.nc", lambda ds: "peak_force" in ds and "detector" in ds.dims and "sample" in ds.dims, "impact"),
+)
+
+
+def _draw_maintenance(ds, result, directory, fmt, dpi):
+    """The figures and the HTML report of a plan.nc, fleet.nc or load.nc; None for another file.
+    A file of the kind that lacks what its figures read is refused in one line naming it."""
+    import importlib
+
+    for name, known, module in _MAINTENANCE:
+        if known(ds):
+            make = importlib.import_module(f"railwear.maintenance.{module}")
+            try:
+                paths = make.draw_figures(ds, directory, fmt, dpi)
+                return paths + [make.html_report(ds, Path(directory) / make.HTML, paths)]
+            except (KeyError, AttributeError, IndexError) as e:
+                missing = e.args[0] if isinstance(e, KeyError) and e.args else e
+                _fail(f"{result}: looks like a {name} of railwear but cannot be drawn: {missing} is missing or broken", 2)
+    return None
+
+
 def _draw(ds, directory, fmt="png", dpi=120):
     """Save the figure of a file railwear wrote (not result.nc) in ``directory``; returns the
     paths (none for a sweep of which no point ran, or for a file of no known kind)."""
@@ -284,7 +312,7 @@ def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None
     results.write_netcdf(ds, output / "result.nc")
     checkpoint.unlink(missing_ok=True)
     summary = results.write_summary(ds, output)
-    paths = plots.write_figures(ds, output, fmt, dpi) if figures else []
+    paths = plots.write_figures(ds, output, fmt, dpi, parallel=_state["own_process"]) if figures else []
     report.write_report(ds, output / report.NAME, paths, warned.caught, _compile_notice["compiled"])
     typer.echo(results.summary_text(summary), nl=False)
     typer.echo(f"wrote {output / 'result.nc'}")
@@ -350,7 +378,7 @@ def resume(
 @app.command()
 def plot(
     result: Annotated[Path, typer.Argument(help="a file railwear wrote: result.nc, stability.nc, sweep.nc, "
-                                                "forecast.nc, hunting.nc or dynamics.nc")],
+                                                "forecast.nc, hunting.nc, dynamics.nc, plan.nc, fleet.nc or load.nc")],
     output: Annotated[Optional[Path], typer.Option("-o", "--output", help="directory (default: beside RESULT)")] = None,
     fmt: Format = "png",
     dpi: Dpi = 120,
@@ -366,7 +394,10 @@ def plot(
         ds = results.read_netcdf(result)
     except (OSError, ValueError) as e:
         _fail(f"{result} is not a railwear result: {e}", 2)
-    if any(known(ds) for known, _, _ in _FILES):
+    maintenance = _draw_maintenance(ds, result, directory, fmt, dpi)
+    if maintenance is not None:
+        paths = maintenance
+    elif any(known(ds) for known, _, _ in _FILES):
         try:
             paths = _draw(ds, directory, fmt, dpi)
         except ScenarioError as e:
@@ -380,7 +411,8 @@ def plot(
         try:
             check_result(ds)
         except ValueError as e:
-            _fail(f"{result} is not a railwear result ({e})", 2)
+            _fail(f"{result} is not a railwear result ({e}; railwear plot draws result.nc, stability.nc, sweep.nc, "
+                  "forecast.nc, hunting.nc, dynamics.nc, track.nc, plan.nc, fleet.nc and load.nc)", 2)
         from railwear import report
 
         paths = plots.write_figures(ds, directory, fmt, dpi)
@@ -769,6 +801,12 @@ def fleet_forecast(
     workers: Annotated[Optional[int], typer.Option(help="local worker processes (default: none, this process)")] = None,
     scheduler: Annotated[Optional[str], typer.Option(help="Dask scheduler address, tcp://HOST:PORT")] = None,
     scheduler_file: Annotated[Optional[Path], typer.Option(help="Dask scheduler file")] = None,
+    load_speeds: Annotated[Optional[str], typer.Option(help="speeds in km/h (A:B:STEP or v1,v2,...): the peak "
+                                                            "wheel-rail force of each wheel now and when its growth "
+                                                            "passes each detector threshold (vehicle_track body; "
+                                                            "time-domain runs, about a second per wheel and speed)")] = None,
+    load_threshold_kn: Annotated[list[float], typer.Option(help="a detector threshold of your own (kN) besides the "
+                                                                "published ones; repeat for more")] = [],
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-fleet"),
     figures: Annotated[bool, typer.Option(help="write the figures as PNG")] = True,
     sets: Sets = [],
@@ -776,7 +814,8 @@ def fleet_forecast(
     dpi: Dpi = 120,
 ):
     """A fleet of measured wheels under a maintenance policy: per wheel its state now, the distance to
-    each trigger with its band, the action and its date; DIR/fleet.nc, fleet.txt, wheels.csv, fleet-*.png."""
+    each trigger with its band, the action and its date; DIR/fleet.nc, fleet.txt, wheels.csv, fleet-*.png,
+    fleet.html."""
     from railwear.maintenance import fleet as fleets
 
     _option(daily_km, "--daily-km", 1, 1e5)
@@ -784,14 +823,16 @@ def fleet_forecast(
     _option(diameter_step_mm, "--diameter-step-mm", 0.1, 100)
     _figure_options(fmt, dpi)
     multipliers = _parse_range(growth, "--growth")
+    load_kmh = None if load_speeds is None else _parse_range(load_speeds, "--load-speeds")
     executor = None
     try:
+        detectors = fleets.detectors_with(load_threshold_kn) if load_threshold_kn else None
         _output(output)
         sc = _scenario(scenario, sets)
         executor = _executor(workers, scheduler, scheduler_file)
         with _Warnings(), _Progress("railwear fleet") as progress:
             ds = fleets.fleet(sc, fleet, policy, daily_km, multipliers, horizon_km, diameter_step_mm,
-                              executor=executor, progress=progress)
+                              executor=executor, progress=progress, load_speeds_kmh=load_kmh, detectors=detectors)
     except ScenarioError as e:
         _fail(str(e), 2)
     finally:
@@ -966,7 +1007,54 @@ LOG = "railwear-error.log"
 
 def main():
     """The ``railwear`` command. A bug (an exception railwear did not raise on purpose) is exit
-    status 1 with its traceback in ``LOG`` in the output folder and a one-line pointer to it."""
+    status 1 with its traceback in ``LOG`` in the output folder and a one-line pointer to it.
+    The process ends without the interpreter's teardown (:func:`_exit`)."""
+    _hide_dask(sys.argv[1:])
+    _state["own_process"] = True
+    try:
+        _main()
+    except SystemExit as e:
+        _exit(e.code)
+    _exit(0)
+
+
+def _hide_dask(args):
+    """Make dask invisible to a command that does not run on a Dask cluster (no ``--scheduler``
+    or ``--scheduler-file``), as if it were not installed. Installed, xarray imports it (and
+    asks it for its scheduler, which imports distributed) when it wraps an array and when it
+    writes a file: 0.5-2 s a command, for arrays that are never dask's."""
+    if "dask" not in sys.modules and not any(a.startswith("--scheduler") for a in args):
+        sys.modules["dask"] = None  # what 'import dask' then finds: ImportError
+
+
+def _exit(code):
+    """End the process with ``code`` (as ``sys.exit`` reads it) once the files are closed and the
+    streams flushed, skipping the interpreter's teardown: freeing every module and object of
+    numba, matplotlib, xarray and scipy took 0.9-1.8 s after the last file was written. The
+    ``atexit`` functions still run. With another thread still going (the interpreter would wait
+    for it), the usual exit."""
+    import atexit
+    import threading
+
+    if threading.active_count() > 1 or not hasattr(atexit, "_run_exitfuncs"):
+        sys.exit(code)
+    if code is None:
+        status = 0
+    elif isinstance(code, int):
+        status = code
+    else:  # sys.exit("text"): the text on standard error, status 1
+        print(code, file=sys.stderr)
+        status = 1
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe: nothing left to say
+            pass
+    os._exit(status & 0xFF)
+
+
+def _main():
     try:
         app(prog_name="railwear")
     except RailwearError as e:  # anything a command did not map itself

@@ -201,9 +201,7 @@ def html_report(ds, figures=(), caught=(), compiled=False, warnings_known=True):
     parts.append("<h2>Scenario</h2>")
     parts.append(f"<pre>{_e(ds.attrs.get('scenario', '(not stored in the result)'))}</pre>")
     parts.append(f"<footer><p>written by railwear {_e(__version__)}</p></footer>")
-    return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-            f"<title>railwear report: {_e(name)}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n"
-            + "\n".join(parts) + "\n</body>\n</html>\n")
+    return _document(f"railwear report: {name}", parts)
 
 
 def _scenario_description(ds):
@@ -214,6 +212,44 @@ def _scenario_description(ds):
         return str(tomllib.loads(ds.attrs.get("scenario", "")).get("description", ""))
     except tomllib.TOMLDecodeError:
         return ""
+
+
+def page(title, blocks, figures=(), scenario=""):
+    """A self-contained HTML page of another command's outputs (``railwear plan``, ``fleet``,
+    ``load``) in the run report's style: ``blocks`` are ``(kind, content)`` with kind ``h2``,
+    ``p``, ``pre`` (text) or ``table`` (``(head, rows)``), then the ``figures`` embedded, the
+    scenario's TOML and the version. All text is escaped; nothing is fetched."""
+    from railwear import __version__
+
+    parts = [f"<h1>{_e(title)}</h1>"]
+    for kind, content in blocks:
+        if kind == "table":
+            parts.append(_table(*content))
+        elif kind in ("h2", "h3", "p", "pre"):
+            parts.append(f"<{kind}>{_e(content)}</{kind}>")
+        else:
+            raise ValueError(f"page: no block of kind {kind!r}")
+    parts.append("<h2>Figures</h2>")
+    if figures:
+        parts.extend(figure_html(p) for p in figures)
+    else:
+        parts.append("<p>no figures were written</p>")
+    if scenario:
+        parts += ["<h2>Scenario</h2>", f"<pre>{_e(scenario)}</pre>"]
+    parts.append(f"<footer><p>written by railwear {_e(__version__)}</p></footer>")
+    return _document(title, parts)
+
+
+def _document(title, parts):
+    """The HTML document of the body ``parts`` (HTML text) under ``title`` (plain text)."""
+    return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            f"<title>{_e(title)}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n"
+            + "\n".join(parts) + "\n</body>\n</html>\n")
+
+
+def write_page(path, title, blocks, figures=(), scenario=""):
+    """Write :func:`page` atomically to ``path``; returns the path."""
+    return write_text(page(title, blocks, figures, scenario), path)
 
 
 def write_report(ds, path, figures=(), caught=(), compiled=False, warnings_known=True):

@@ -29,6 +29,7 @@ import xarray as xr
 from railwear.errors import MeasuredFileError, OptionError
 from railwear.geometry import roundness
 from railwear.longterm.spectra import UNDEFINED
+from railwear.maintenance.detectors import flag_batch
 from railwear.maintenance.fleet_input import EXAMPLE, read_fleet
 from railwear.maintenance.plan import GROWTH, WheelRates, _checked_growth, _policies, re_profiled
 from railwear.maintenance.turning import BELOW, WORN, RateTable
@@ -277,7 +278,8 @@ def _run(executor, fn, tasks, progress, done, total):
 
 def fleet(scenario=None, manifest=EXAMPLE, policy="metro-condition", daily_km=DAILY_KM, growth=GROWTH,
           horizon_km=HORIZON_KM, diameter_step_mm=DIAMETER_STEP_MM, resolution_km=RESOLUTION_KM, executor=None,
-          progress=None, rates=None, batch=BATCH):
+          progress=None, rates=None, batch=BATCH, load_speeds_kmh=None, detectors=None, load_revolutions=8,
+          load_transient_s=1.0, load_tolerance=None):
     """Each wheel of a measured fleet under one maintenance policy: its state now, the distance to
     each trigger with its band over the ``growth`` multipliers, the action and its date at
     ``daily_km``. ``scenario`` a :class:`~railwear.scenario.Scenario`, file or built-in name whose
@@ -286,7 +288,14 @@ def fleet(scenario=None, manifest=EXAMPLE, policy="metro-condition", daily_km=DA
     this process by default; local processes, or Dask). ``rates``: a callable ``diameter (m) ->``
     :class:`RateTable` in place of the scenario's technique (for a wheel of known rates). Returns
     an ``xarray.Dataset`` over ``wheel`` (:func:`dataset`); a fleet of which no wheel can be read
-    raises :class:`~railwear.errors.MeasuredFileError` naming the first refusal."""
+    raises :class:`~railwear.errors.MeasuredFileError` naming the first refusal.
+
+    ``load_speeds_kmh`` (a ``vehicle_track`` body only; costly: time-domain runs per wheel): the
+    peak wheel–rail force of each wheel's measured shape at these speeds, and the distance at
+    which its grown shape passes each of ``detectors`` (:data:`~railwear.maintenance.impact.DETECTORS`
+    by default; :mod:`railwear.maintenance.detectors`), ``load_revolutions`` recorded after
+    ``load_transient_s`` at each speed, located to ``load_tolerance`` of the peak to peak; one task
+    of the executor per wheel."""
     from railwear.sweep import SerialExecutor
 
     sc = load_scenario(scenario)
@@ -300,6 +309,8 @@ def fleet(scenario=None, manifest=EXAMPLE, policy="metro-condition", daily_km=DA
     if min(growth) <= 0:
         raise OptionError("growth: a fleet's band needs multipliers above 0 (0 would be no polygon growth at all)")
     middle = _middle(growth)
+    load = None if load_speeds_kmh is None else _load_options(sc, load_speeds_kmh, detectors, load_revolutions,
+                                                               load_transient_s, load_tolerance)
     base = re_profiled(sc)
     new = 2 * sc.wheel.radius_m
     files, (built,) = _policies([policy], base, new)
@@ -321,7 +332,8 @@ def fleet(scenario=None, manifest=EXAMPLE, policy="metro-condition", daily_km=DA
     nodes = diameter_nodes(diameters, step)
     order = np.argsort(diameters, kind="stable")
     chunks = [order[k:k + batch] for k in range(0, order.size, batch)]
-    total, done = (0 if rates is not None else nodes.size) + len(chunks), [0]
+    flagged = len({line.wheel_id for line in kept}) if load is not None else 0
+    total, done = (0 if rates is not None else nodes.size) + len(chunks) + flagged, [0]
     own = executor is None
     executor = executor or SerialExecutor()
     try:
@@ -334,24 +346,158 @@ def fleet(scenario=None, manifest=EXAMPLE, policy="metro-condition", daily_km=DA
         tasks = [([interpolated(tables, nodes, diameters[i]) for i in c], np.array([states[i] for i in c]),
                   diameters[c], since[c], built, growth, middle, horizon_km * KM, resolution) for c in chunks]
         answers = _run(executor, forecast_batch, tasks, progress, done, total)
+        forecasts = [None] * len(kept)
+        for c, answer in zip(chunks, answers):
+            for i, a in zip(c, answer):
+                forecasts[i] = a
+        good = []
+        for line, f, u in zip(kept, forecasts, states):
+            if isinstance(f, str):
+                failed.append(f"{line.file}: {f} (wheel {line.wheel_id}, {path.name} line {line.row})")
+            else:
+                good.append((line, f, u))
+        if not good:
+            raise MeasuredFileError(f"{path.name}: no wheel of the fleet could be forecast; the first: {failed[0]}")
+        ds = dataset(sc, files[0], built, good, failed, growth, middle, nodes, tables,
+                     {"manifest": path.name, "daily_km": daily_km, "horizon_km": horizon_km,
+                      "diameter_step_mm": step / MM, "resolution_km": resolution / KM})
+        if load is not None:
+            lines_of = _governing_lines(good, middle)
+            wheel_tasks = [[load.task(line.diameter, u, interpolated(tables, nodes, line.diameter), horizon_km * KM)]
+                           for line, _, u in lines_of]
+            flags = [answer[0] for answer in _run(executor, flag_batch, wheel_tasks, progress, done, total)]
+            ds = with_detectors(ds, load, flags, growth)
     finally:
         if own:
             executor.close()
-    forecasts = [None] * len(kept)
-    for c, answer in zip(chunks, answers):
-        for i, a in zip(c, answer):
-            forecasts[i] = a
-    good = []
-    for line, f, u in zip(kept, forecasts, states):
-        if isinstance(f, str):
-            failed.append(f"{line.file}: {f} (wheel {line.wheel_id}, {path.name} line {line.row})")
-        else:
-            good.append((line, f, u))
-    if not good:
-        raise MeasuredFileError(f"{path.name}: no wheel of the fleet could be forecast; the first: {failed[0]}")
-    return dataset(sc, files[0], built, good, failed, growth, middle, nodes, tables,
-                   {"manifest": path.name, "daily_km": daily_km, "horizon_km": horizon_km,
-                    "diameter_step_mm": step / MM, "resolution_km": resolution / KM})
+    return ds
+
+
+@dataclass(frozen=True)
+class LoadOptions:
+    """The dynamic wheel load of a fleet (SI): the vehicle–track ``case``, ``speeds`` (m/s),
+    ``detectors`` (:class:`~railwear.maintenance.impact.Detector`), the ring and the record."""
+
+    case: object
+    speeds: tuple
+    detectors: tuple
+    ring_sleepers: int
+    ring_max_frequency_hz: float
+    revolutions: int
+    transient: float
+    tolerance: float
+
+    def task(self, diameter, u, table, horizon):
+        """The :class:`~railwear.maintenance.detectors.WheelTask` of a wheel of ``diameter`` (m)."""
+        from dataclasses import replace
+
+        from railwear.maintenance.detectors import WheelTask
+
+        return WheelTask(replace(self.case, diameter=float(diameter)), u, table, self.speeds,
+                         tuple(d.threshold for d in self.detectors), horizon, self.tolerance, self.ring_sleepers,
+                         self.ring_max_frequency_hz, self.revolutions, self.transient)
+
+
+def detectors_with(own_kn):
+    """The published detector thresholds and the planner's own (kN each), one line refusing a bad one."""
+    from railwear.maintenance.impact import DETECTORS, Detector
+
+    own = []
+    for value in own_kn:
+        _check("--load-threshold-kn", value, 1.0, 5000.0, "kN")
+        own.append(Detector(f"own-{len(own) + 1}", "own threshold", float(value), "kN", "the planner's own threshold",
+                            "given with --load-threshold-kn"))
+    if len({d.value for d in own}) != len(own):
+        raise OptionError("--load-threshold-kn: a threshold is given twice")
+    return tuple(DETECTORS) + tuple(own)
+
+
+def _load_options(sc, speeds_kmh, detectors, revolutions, transient, tolerance):
+    """:class:`LoadOptions` of the scenario, or a one-line refusal naming the option or field."""
+    from railwear.maintenance import detectors as flags
+    from railwear.maintenance import impact
+    from railwear.units import kmh_to_m_s
+
+    impact.check_body(sc, "--load-speeds")
+    v = np.atleast_1d(np.asarray(speeds_kmh, float))
+    low, high = impact.SPEED_KMH
+    if not 1 <= v.size <= 20 or not np.all(np.isfinite(v)) or np.any((v < low) | (v > high)) or np.unique(v).size != v.size:
+        raise OptionError(f"--load-speeds: 1 to 20 different speeds in [{low:g}, {high:g}] km/h, got "
+                          f"{', '.join(f'{x:g}' for x in v) or 'none'}")
+    found = tuple(impact.DETECTORS if detectors is None else detectors)
+    if not found or not all(isinstance(d, impact.Detector) for d in found):
+        raise OptionError("detectors: give one or more railwear.maintenance.impact.Detector")
+    if len({d.name for d in found}) != len(found):
+        raise OptionError("detectors: two detectors share a name")
+    revolutions = int(_check("load_revolutions", revolutions, 1, 1000, "revolutions"))
+    transient = _check("load_transient_s", transient, 0.0, 60.0, "s")
+    tolerance = _check("load_tolerance", flags.TOLERANCE if tolerance is None else tolerance, 1e-4, 0.5, "")
+    return LoadOptions(sc.body.case(sc), tuple(float(x) for x in np.sort(kmh_to_m_s(v))), found, sc.track.ring_sleepers,
+                       sc.track.ring_max_frequency_hz, revolutions, transient, tolerance)
+
+
+def _governing_lines(good, middle):
+    """The governing ``(line, forecast, u)`` of each wheel, in the order of :func:`dataset`'s wheels."""
+    wheels = {}
+    for entry in good:
+        wheels.setdefault(entry[0].wheel_id, []).append(entry)
+    return [_governing(entries, middle) for entries in wheels.values()]
+
+
+def with_detectors(ds, load, flags, growth):
+    """``ds`` with the dynamic wheel load of each wheel (:class:`~railwear.maintenance.detectors.WheelFlags`
+    in the order of its wheels): the peak force now per speed, what each detector flags now, and
+    the distance at which the grown shape passes each threshold, over the growth band."""
+    from railwear.api import speed_coordinates
+    from railwear.maintenance.detectors import LEAST_STEP_KM
+
+    growth = np.asarray(growth, float)
+    thresholds = np.array([d.threshold for d in load.detectors])
+    now = np.array([f.peak_now for f in flags])
+    at1 = np.array([f.distance for f in flags]) / KM  # km, wheels x detectors
+    with np.errstate(divide="ignore", invalid="ignore"):
+        band = np.where(at1[..., None] == 0, 0.0, at1[..., None] / growth[None, None, :])
+    horizon = ds.attrs["horizon_km"]
+    band = np.where(band <= horizon, band, np.inf)
+    why = np.array([list(f.why) for f in flags], dtype=object).astype(str)
+    wd, dd = ("wheel", "detector"), ("detector",)
+    variables = {
+        "static_load": ((), load.case.static_load, {"units": "N", "long_name": "static wheel load"}),
+        "peak_force_now": (("wheel", "speed"), now, {"units": "N", "long_name": "peak vertical wheel-rail force of the "
+                                                     "measured shape (time domain, ring track)"}),
+        "flagged_now": (("wheel", "speed", "detector"), (now[..., None] > thresholds).astype(np.int8),
+                        {"units": "1", "long_name": "1: the peak force now exceeds the detector's threshold"}),
+        "distance_to_detector": (("wheel", "detector", "growth"), band, {
+            "units": "km", "long_name": "distance from the measurement at which the grown shape's peak force passes the "
+                                        "threshold at one of the speeds", **_undefined(band, NOT_WITHIN)}),
+        "detector_speed": (wd, np.array([f.speed for f in flags]), {
+            "units": "m s-1", "long_name": "speed whose peak passes the threshold first (growth 1)",
+            "undefined_because": "not passed within the search"}),
+        "detector_peak_force": (wd, np.array([f.peak for f in flags]), {
+            "units": "N", "long_name": "that peak force, at the located distance"}),
+        "detector_peak_to_peak": (wd, np.array([f.peak_to_peak for f in flags]), {
+            "units": "m", "long_name": "peak-to-peak radius deviation of the grown shape there"}),
+        "detector_not_found": (wd, why, {"long_name": "why no distance is given ('' where one is)"}),
+        "load_runs": (("wheel",), np.array([f.runs for f in flags], np.int64), {
+            "units": "1", "long_name": "time-domain runs the wheel took"}),
+        "threshold": (dd, thresholds, {"units": "N", "long_name": "detector threshold on the peak force"}),
+        "detector_who": (dd, np.array([d.who for d in load.detectors]), {"long_name": "who acts"}),
+        "detector_action": (dd, np.array([d.action for d in load.detectors]), {"long_name": "what they do"}),
+        "detector_source": (dd, np.array([d.source for d in load.detectors]), {"long_name": "source"}),
+    }
+    out = ds.assign(variables).assign_coords(detector=("detector", [d.name for d in load.detectors],
+                                                       {"long_name": "wheel-impact-load detector threshold"}))
+    out = speed_coordinates(out, np.asarray(load.speeds), "speed")
+    out.attrs.update({
+        "load_revolutions": load.revolutions, "load_transient_s": load.transient, "load_tolerance": load.tolerance,
+        "ring_sleepers": load.ring_sleepers, "ring_max_frequency_hz": load.ring_max_frequency_hz,
+        "load_method": (f"peak force of the time-domain wheel on the ring track at each speed, {load.revolutions} "
+                        f"revolutions after {load.transient:g} s, the wheel of the vehicle-track case at its own "
+                        "diameter; the grown shape is the Fourier evolution of the measured line at growth 1 without "
+                        "turnings, the distance located by bisection until the peak to peak across the bracket differs "
+                        f"by less than {load.tolerance:.0%} (or {LEAST_STEP_KM:g} km), assuming each speed's peak grows "
+                        "with the distance; under growth g the distance is the one at 1 divided by g")})
+    return out
 
 
 def _governing(entries, middle):
@@ -487,7 +633,7 @@ def dataset(scenario, file, policy, good, failed, growth, middle, nodes, tables,
 
 # What `railwear fleet` writes besides fleet.nc, read from the Dataset alone (so the files can be
 # written again from fleet.nc).
-TEXT, TABLE = "fleet.txt", "wheels.csv"
+TEXT, TABLE, HTML = "fleet.txt", "wheels.csv", "fleet.html"
 FIGURES = ("fleet-actions", "fleet-cars", "fleet-orders")
 NEXT = 15  # wheels listed in the summary, soonest first
 ORDER_MAP_RANGE_DB = 50.0  # the order map's colour range below the fleet's loudest order
@@ -530,8 +676,28 @@ def table_rows(ds):
                     "days_to_action": int(d.days_to_action), "action_date": str(d.action_date.values),
                     "action_date_early": str(d.action_date_early.values),
                     "cut_mm": float(d.cut_depth) / MM, "diameter_after_mm": float(d.diameter_after) / MM})
+        if "peak_force_now" in ds:
+            row.update(_load_columns(ds, d, g))
         rows.append(row)
     return rows
+
+
+def _detector_slug(ds, k):
+    return f"{_slug(str(ds.detector.values[k]))}_{ds.threshold.values[k] / 1e3:.0f}kN"
+
+
+def _load_columns(ds, d, g):
+    """A wheel's dynamic-load columns: the peak force now per speed (kN), the detectors that
+    flag it now, and per detector the distance to its threshold (km) with its band and the speed."""
+    row = {f"peak_now_{v:g}kmh_kN": float(p) / 1e3 for v, p in zip(ds.speed_kmh.values, d.peak_force_now.values)}
+    now = [str(ds.detector.values[k]) for k in range(ds.sizes["detector"]) if d.flagged_now.values[:, k].any()]
+    row["flagged_now_by"] = " ".join(now)
+    for k in range(ds.sizes["detector"]):
+        slug, values = _detector_slug(ds, k), d.distance_to_detector.values[k]
+        row[f"to_{slug}_km"] = float(values[g])
+        row[f"to_{slug}_early_km"], row[f"to_{slug}_late_km"] = float(np.min(values)), float(np.max(values))
+        row[f"{slug}_speed_kmh"] = float(m_s_to_kmh(float(d.detector_speed.values[k])))
+    return row
 
 
 def _cell(value):
@@ -598,10 +764,44 @@ def report(ds):
                          f"{str(action[w]):<8} {_km(dist) + ' (' + band + ')':<28} "
                          f"{_when(ds, w) + ' (' + (str(ds.action_date_early.values[w]) or '-') + ')':<25} "
                          f"{ds.action_reason.values[w]}")
+    if "peak_force_now" in ds:
+        lines += [""] + load_lines(ds)
     failed = [str(f) for f in ds.failed.values]
     lines += ["", f"refused ({len(failed)}):" if failed else "refused: none"]
     lines += [f"  {f}" for f in failed]
     return "\n".join(lines) + "\n"
+
+
+def load_lines(ds):
+    """The dynamic wheel load in words: the highest peak now, what each detector flags now, and
+    when the grown shapes pass each threshold (the first wheel, how many within the horizon and
+    how many before their own action)."""
+    kmh = ds.speed_kmh.values
+    now = ds.peak_force_now.values
+    w, i = np.unravel_index(int(np.nanargmax(now)), now.shape)
+    g = float(ds.attrs["recommended_growth"])
+    gi = int(np.argmin(np.abs(ds.growth.values - g)))
+    action = ds.distance_to_action.values[:, gi]
+    lines = [f"dynamic wheel load at {', '.join(f'{v:g}' for v in kmh)} km/h (static {float(ds.static_load) / 1e3:.1f} kN;"
+             f" growth x{g:g}, no turning): the highest peak now {now[w, i] / 1e3:.1f} kN ({ds.wheel.values[w]} at "
+             f"{kmh[i]:g} km/h)"]
+    for k in range(ds.sizes["detector"]):
+        flagged = np.flatnonzero(ds.flagged_now.values[:, :, k].any(axis=1))
+        d = ds.distance_to_detector.values[:, k, gi]
+        head = f"  {ds.detector_who.values[k]} {ds.threshold.values[k] / 1e3:.0f} kN: "
+        head += (f"{flagged.size} flagged now ({', '.join(str(x) for x in ds.wheel.values[flagged][:5])}"
+                 f"{' ...' if flagged.size > 5 else ''})" if flagged.size else "none flagged now")
+        later = np.flatnonzero(np.isfinite(d) & (d > 0))
+        if later.size:
+            first = later[np.argmin(d[later])]
+            head += (f"; {later.size}{' more' if flagged.size else ''} within the horizon, the first "
+                     f"{ds.wheel.values[first]} after "
+                     f"{_km(d[first])} km (at {m_s_to_kmh(float(ds.detector_speed.values[first, k])):g} km/h), "
+                     f"{int(np.sum(d[later] < action[later]))} before their action")
+        else:
+            head += "; no other within the horizon"
+        lines.append(head)
+    return lines
 
 
 def _car_key(car):
@@ -752,17 +952,137 @@ def figure_orders(ds):
     return fig
 
 
-def write(ds, directory, fmt="png", dpi=120, figures=True):
-    """``fleet.nc``, ``fleet.txt``, ``wheels.csv`` and (with ``figures``) ``fleet-actions``,
-    ``fleet-cars`` and ``fleet-orders`` in ``directory``, each written atomically; returns their paths."""
+LOAD_FIGURE = "fleet-load"
+DETECTOR_MARKERS = "osD^vP"
+
+
+def figure_load(ds):
+    """Left: the peak vertical force now (kN) of each wheel (rows, by car, axle and side) at each
+    speed, coloured against the static load and the detector thresholds (ticked on the colour
+    bar; a cell over the lowest threshold is outlined). Right: the distance at which each wheel's
+    grown shape passes each threshold (10³ km, growth band as a line), beside its next action."""
+    from matplotlib.colors import Normalize
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Rectangle
+
+    cars, rows, index = _positions(ds)
+    order = np.lexsort(([r for r, _ in index], [c for _, c in index]))
+    n, kmh = order.size, ds.speed_kmh.values
+    now = ds.peak_force_now.values[order] / 1e3
+    thresholds = ds.threshold.values / 1e3
+    static = float(ds.static_load) / 1e3
+    names = [str(x) for x in ds.wheel.values[order]]
+    fig = Figure(figsize=(11, min(3.2 + 0.22 * n, 14.0)), layout="constrained")
+    left, right = fig.subplots(1, 2, width_ratios=(1, 1.3))
+    top = float(np.nanmax(now))
+    # the colours span the fleet's peaks (a scale up to 400 kN would leave every wheel of a metro one colour);
+    # a threshold within them is marked on the colour bar, and the title says how far the highest is from the lowest
+    image = left.pcolormesh(np.arange(kmh.size + 1), np.arange(n + 1), now, cmap="inferno",
+                            norm=Normalize(vmin=static, vmax=max(top, static * 1.01)), edgecolors="white", linewidth=0.3)
+    bar = fig.colorbar(image, ax=left, location="bottom", pad=0.02, aspect=30, extend="max")
+    bar.set_label(f"peak vertical force now (kN), from the static load {static:.1f} kN")
+    for t in thresholds[thresholds <= top]:
+        bar.ax.axvline(t, color="cyan", lw=1.5)
+    lowest = float(thresholds.min())
+    over = now > lowest
+    for r, c in zip(*np.nonzero(over)):
+        left.add_patch(Rectangle((c, r), 1, 1, fill=False, edgecolor="cyan", lw=1.5))
+    if n <= 40 and kmh.size <= 12:
+        for r in range(n):
+            for c in range(kmh.size):
+                left.text(c + 0.5, r + 0.5, f"{now[r, c]:.0f}", ha="center", va="center", fontsize="xx-small",
+                          color="white" if now[r, c] < static + 0.6 * (top - static) else "black")
+    step = max(1, n // 40)
+    left.set_yticks(np.arange(0, n, step) + 0.5, names[::step], fontsize="x-small")
+    left.set_xticks(np.arange(kmh.size) + 0.5, [f"{v:g}" for v in kmh])
+    left.set_ylim(n, 0)
+    left.set(xlabel="speed (km/h)", title=f"peak force now (kN): the highest {top:.0f} kN is {top / lowest:.0%} of the\n"
+                                          f"lowest threshold ({lowest:.0f} kN){'; over it: outlined' if over.any() else ''}")
+    g = float(ds.attrs["recommended_growth"])
+    gi = int(np.argmin(np.abs(ds.growth.values - g)))
+    y = np.arange(n) + 0.5
+    for k in range(ds.sizes["detector"]):
+        d = ds.distance_to_detector.values[order, k] / 1e3
+        offset = (k - (ds.sizes["detector"] - 1) / 2) * 0.15
+        shown = np.isfinite(d[:, gi])
+        colour = f"C{k + 1}"
+        reach = np.where(np.isfinite(d), d, ds.attrs["horizon_km"] / 1e3)  # a band beyond the horizon ends there
+        right.hlines(y[shown] + offset, reach[shown].min(axis=1), reach[shown].max(axis=1), color=colour, lw=1,
+                     alpha=0.6)
+        right.plot(d[shown, gi], y[shown] + offset, DETECTOR_MARKERS[k % len(DETECTOR_MARKERS)], color=colour, ms=4,
+                   ls="none", label=f"{ds.detector_who.values[k]} {thresholds[k]:.0f} kN")
+    action = ds.distance_to_action.values[order, gi] / 1e3
+    fin = np.isfinite(action)
+    right.plot(action[fin], y[fin], "|", color="k", ms=9, mew=1.5, ls="none", label="next action (policy)")
+    right.set_yticks(np.arange(0, n, step) + 0.5, names[::step], fontsize="x-small")
+    right.set_ylim(n, 0)
+    right.set_xlim(left=0)
+    right.set(xlabel=f"distance from the measurement (10³ km), growth x{g:g}; line: band "
+                     f"x{ds.growth.values.max():g} to x{ds.growth.values.min():g}",
+              title="when the grown shape passes each threshold (no turning)")
+    right.grid(axis="x", alpha=0.3)
+    right.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.06), ncol=3, frameon=False)
+    fig.suptitle(f"dynamic wheel load of {n} wheels: {ds.attrs['scenario_name']}, static load {static:.1f} kN")
+    return fig
+
+
+def draw_figures(ds, directory, fmt="png", dpi=120):
+    """The fleet's figures in ``directory`` (the load figure where ``ds`` holds the dynamic load);
+    returns their paths."""
     from pathlib import Path
 
-    from railwear import plots, results
+    from railwear import plots
+
+    makers = list(zip(FIGURES, (figure_actions, figure_cars, figure_orders)))
+    if "peak_force_now" in ds:
+        makers.append((LOAD_FIGURE, figure_load))
+    return [plots.save(make(ds), Path(directory) / f"{name}.png", fmt, dpi) for name, make in makers]
+
+
+def html_report(ds, path, figures=()):
+    """``fleet.html``: the summary, a row per wheel, the figures embedded, the refusals, the policy
+    and its source, and the scenario, in one file a planner can send; returns its path."""
+    from railwear import report as pages
+
+    rows = table_rows(ds)
+    keys = ["wheel_id", "car", "axle", "side", "diameter_mm", "peak_to_peak_um", "dominant_order", "action",
+            "to_action_km", "to_action_early_km", "to_action_late_km", "action_date", "reason"]
+    keys += [k for k in rows[0] if k.startswith("peak_now_") or k == "flagged_now_by"
+             or (k.startswith("to_") and k.endswith("kN_km"))]
+    table = [[_html_cell(r[k]) for k in keys] for r in rows]
+    a = ds.attrs
+    blocks = [("p", f"policy {a['policy_name']}: {a['policy_source']}"), ("h2", "Summary"), ("pre", report(ds)),
+              ("h2", f"Wheels ({len(rows)}; every column in {TABLE})"), ("table", (keys, table))]
+    if "load_method" in a:
+        blocks += [("h2", "The dynamic wheel load"), ("p", a["load_method"]),
+                   ("table", (("detector", "threshold (kN)", "who", "action", "source"),
+                              [(str(ds.detector.values[k]), f"{ds.threshold.values[k] / 1e3:.0f}",
+                                str(ds.detector_who.values[k]), str(ds.detector_action.values[k]),
+                                str(ds.detector_source.values[k])) for k in range(ds.sizes["detector"])]))]
+    return pages.write_page(path, f"railwear fleet: {a['manifest']} under {a['policy_name']}", blocks, figures,
+                            scenario=a.get("scenario", ""))
+
+
+def _html_cell(value):
+    if isinstance(value, float):
+        if np.isnan(value):
+            return "-"
+        return "beyond the horizon" if np.isinf(value) else f"{value:,.1f}" if abs(value) < 1e4 else f"{value:,.0f}"
+    return str(value)
+
+
+def write(ds, directory, fmt="png", dpi=120, figures=True):
+    """``fleet.nc``, ``fleet.txt``, ``wheels.csv``, (with ``figures``) ``fleet-actions``,
+    ``fleet-cars``, ``fleet-orders`` (and ``fleet-load`` with the dynamic load), and ``fleet.html``
+    (all of it in one file) in ``directory``, each written atomically; returns their paths."""
+    from pathlib import Path
+
+    from railwear import results
 
     directory = Path(directory)
     paths = [results.write_netcdf(ds, directory / "fleet.nc"), results.write_text(report(ds), directory / TEXT),
              results.write_text(csv_text(ds), directory / TABLE)]
-    if figures:
-        for name, make in zip(FIGURES, (figure_actions, figure_cars, figure_orders)):
-            paths.append(plots.save(make(ds), directory / f"{name}.png", fmt, dpi))
+    drawn = draw_figures(ds, directory, fmt, dpi) if figures else []
+    paths += drawn
+    paths.append(html_report(ds, directory / HTML, drawn))
     return paths

@@ -34,8 +34,8 @@ import xarray as xr
 from railwear.errors import OptionError, ScenarioError
 from railwear.units import KN, MM, UM, kmh_to_m_s, m_s_to_kmh
 
-__all__ = ["Detector", "DETECTORS", "DynamicLoad", "dynamic_load", "wheel_load", "report", "write", "peak_figure",
-           "trace_figure"]
+__all__ = ["Detector", "DETECTORS", "DynamicLoad", "dynamic_load", "peak_forces", "wheel_load", "report", "write",
+           "peak_figure", "trace_figure"]
 
 KIP = 4448.2216152605  # N per kip (1000 lbf)
 UNITS = {"kN": KN, "kip": KIP}
@@ -183,9 +183,10 @@ def _intervals(mask):
     return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)))
 
 
-def _speed_run(inputs, ring, speed):
+def _speed_run(inputs, ring, speed, with_round=True):
     """The polygon and the round wheel at ``speed`` [m/s]: ``(records, round_records, model, dt,
-    steps per revolution, the record's start time)``, every step of ``revolutions`` recorded."""
+    steps per revolution, the record's start time)``, every step of ``revolutions`` recorded
+    (without ``with_round``, the round wheel is not run and its records are the polygon's)."""
     from railwear.dynamics.disk_wheel_track import WheelOnRing
     from railwear.longterm.disk_wheel import start_lift, wheel_turn
 
@@ -201,7 +202,8 @@ def _speed_run(inputs, ring, speed):
     settle = per * math.ceil(float(inputs.transient) / turn - 1e-9)
     t0, x0 = settle * dt, float(inputs.start_position)
     out = []
-    for model in (shaped, round_wheel) if np.any(u) else (round_wheel,):  # a round wheel runs once
+    runs = (shaped, round_wheel) if with_round else (shaped,)
+    for model in runs if np.any(u) else (round_wheel,):  # a round wheel runs once
         dyn = WheelOnRing(model, ring, dt)
         p, surf = model.params(), model.surface()
         y = dyn.static_state(x0, model.initial_lift)
@@ -341,6 +343,15 @@ def dynamic_load(inputs: DynamicLoad, progress=None) -> xr.Dataset:
                                        {"units": "Hz", "long_name": "frequency of the order"}))
 
 
+def peak_forces(inputs: DynamicLoad, speeds=None, ring=None) -> np.ndarray:
+    """The peak vertical force [N] of ``inputs``' wheel at each of ``speeds`` [m/s] (default its
+    own), the same run as :func:`dynamic_load`'s (so the same peak) without the round wheel, the
+    spectrum or the trace: what a detector reads, at one time-domain run per speed."""
+    ring = inputs.ring() if ring is None else ring
+    speeds = inputs.speeds if speeds is None else speeds
+    return np.array([float(_speed_run(inputs, ring, float(v), with_round=False)[0][:, 1].max()) for v in speeds])
+
+
 # ---- from a scenario and a wheel file ---------------------------------------------------------
 
 DIAMETER_MATCH = 0.01  # a wheel file's diameter within 1 % of the scenario's wheel is that wheel
@@ -390,6 +401,17 @@ def shape_from_file(path, scenario, points, angle_unit=None, deviation_unit=None
     return u, f"{Path(path).name} (measured, {np.ptp(u) / UM:.1f} um peak to peak)"
 
 
+def check_body(sc, what="the dynamic wheel load"):
+    """``sc`` if its body can run on the time-domain track, else a one-line refusal naming the field."""
+    if sc.body.kind != "vehicle_track":
+        raise ScenarioError(f"body.kind: {what} runs a vehicle_track body (the wheel on the time-domain track), "
+                            f"not {sc.body.kind!r}")
+    if sc.body.wheel_mode_frequencies_hz:
+        raise ScenarioError("body.wheel_mode_frequencies_hz: the time-domain track carries no flexible wheelset "
+                            f"modes; remove them (--unset body.wheel_mode_frequencies_hz ...) for {what}")
+    return sc
+
+
 def wheel_load(scenario=None, speeds_kmh=(40.0, 70.0, 120.0), wheel=None, result=None, revolutions=8, transient=1.0,
                angle_unit=None, deviation_unit=None, nominal_diameter=None, progress=None) -> xr.Dataset:
     """:func:`dynamic_load` of a scenario (file, built-in name or Scenario; its body must be a
@@ -398,13 +420,7 @@ def wheel_load(scenario=None, speeds_kmh=(40.0, 70.0, 120.0), wheel=None, result
     after ``transient`` seconds. The scenario's name, TOML and hash go into the attributes."""
     from railwear.scenario import build, load_scenario, scenario_hash, to_toml
 
-    sc = load_scenario(scenario)
-    if sc.body.kind != "vehicle_track":
-        raise ScenarioError(f"body.kind: the dynamic wheel load runs a vehicle_track body (the wheel on the "
-                            f"time-domain track), not {sc.body.kind!r}")
-    if sc.body.wheel_mode_frequencies_hz:
-        raise ScenarioError("body.wheel_mode_frequencies_hz: the time-domain track carries no flexible wheelset "
-                            "modes; remove them (--unset body.wheel_mode_frequencies_hz ...) for the dynamic load")
+    sc = check_body(load_scenario(scenario))
     if wheel is not None and result is not None:
         raise OptionError("--wheel, --result: give one wheel, a measured file or a result")
     if result is not None:
@@ -427,6 +443,7 @@ def wheel_load(scenario=None, speeds_kmh=(40.0, 70.0, 120.0), wheel=None, result
 
 THRESHOLD_COLOURS = ("C4", "C1", "C5", "C6")
 TEXT, TABLE, NETCDF, PEAK_FIGURE, TRACE_FIGURE = "load.txt", "load.csv", "load.nc", "load-peak.png", "load-trace.png"
+HTML = "load.html"
 
 
 def _kn(x):
@@ -525,13 +542,14 @@ def peak_figure(ds, label=None, others=()):
     for d in range(ds.sizes["detector"]):
         ax.axhline(ds.threshold.values[d] / KN, color=THRESHOLD_COLOURS[d % len(THRESHOLD_COLOURS)],
                    ls=styles[d % len(styles)], lw=1.2,
-                   label=f"{ds.detector_who.values[d]}: {ds.detector_action.values[d]}, "
-                         f"{ds.threshold.values[d] / KN:.0f} kN")
+                   label=f"{ds.detector_who.values[d]}, {ds.threshold.values[d] / KN:.0f} kN")  # actions: load.txt
     top = max([ds.threshold.values.max(), np.nanmax(ds.peak_force.values)]
               + [np.nanmax(o.peak_force.values) for _, o in others]) / KN
     ax.set_ylim(0, 1.08 * top)
     if kmh.size == 1:
         ax.set_xlim(kmh[0] - 10, kmh[0] + 10)
+    if kmh.size <= 15:
+        ax.set_xticks(kmh, [f"{v:g}" for v in kmh])  # the speeds that ran, not a scale's round numbers
     ax.set(xlabel="speed (km/h)", ylabel="vertical wheel-rail force (kN)",
            title=f"{ds.attrs.get('scenario_name', 'wheel')}: peak force against wheel-impact-load detector thresholds")
     ax.legend(fontsize="small", loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2)
@@ -569,16 +587,43 @@ def trace_figure(ds, speed_kmh=None):
     return fig
 
 
+def draw_figures(ds, directory, fmt="png", dpi=120):
+    """``load-peak.png`` and ``load-trace.png`` (and their PDF or SVG) in ``directory``; returns the paths."""
+    from railwear import plots
+
+    directory = Path(directory)
+    return [plots.save(peak_figure(ds), directory / PEAK_FIGURE, fmt, dpi),
+            plots.save(trace_figure(ds), directory / TRACE_FIGURE, fmt, dpi)]
+
+
+def html_report(ds, path, figures=()):
+    """``load.html``: the text, the table per speed, the detector thresholds with their sources,
+    the figures embedded and the scenario, in one file; returns its path."""
+    from railwear import report as pages
+
+    rows = table_rows(ds)
+    keys = list(rows[0])
+    cells = [[f"{r[k]:.4g}" if isinstance(r[k], float) else str(r[k]) for k in keys] for r in rows]
+    detectors = [(f"{ds.threshold.values[d] / KN:.0f}", str(ds.detector_who.values[d]), str(ds.detector_action.values[d]),
+                  str(ds.detector_source.values[d])) for d in range(ds.sizes["detector"])]
+    blocks = [("p", f"wheel: {ds.attrs['wheel']}"), ("h2", "Summary"), ("pre", report(ds)),
+              ("h2", f"Per speed (as {TABLE})"), ("table", (keys, cells)),
+              ("h2", "Detector thresholds"), ("table", (("threshold (kN)", "who", "action", "source"), detectors))]
+    title = f"railwear load: {ds.attrs.get('scenario_name', 'a wheel')}, dynamic wheel load"
+    return pages.write_page(path, title, blocks, figures, scenario=ds.attrs.get("scenario", ""))
+
+
 def write(ds, directory, fmt="png", dpi=120, figures=True):
-    """``load.nc``, ``load.txt``, ``load.csv`` and (with ``figures``) ``load-peak.png`` and
-    ``load-trace.png`` in ``directory``, each written atomically; returns their paths."""
-    from railwear import plots, results
+    """``load.nc``, ``load.txt``, ``load.csv``, (with ``figures``) ``load-peak.png`` and
+    ``load-trace.png``, and ``load.html`` (all of it in one file) in ``directory``, each written
+    atomically; returns their paths."""
+    from railwear import results
     from railwear.maintenance.outputs import _csv
 
     directory = Path(directory)
     paths = [results.write_netcdf(ds, directory / NETCDF), results.write_text(report(ds), directory / TEXT),
              results.write_text(_csv(table_rows(ds)), directory / TABLE)]
-    if figures:
-        paths += [plots.save(peak_figure(ds), directory / PEAK_FIGURE, fmt, dpi),
-                  plots.save(trace_figure(ds), directory / TRACE_FIGURE, fmt, dpi)]
+    drawn = draw_figures(ds, directory, fmt, dpi) if figures else []
+    paths += drawn
+    paths.append(html_report(ds, directory / HTML, drawn))
     return paths

@@ -9,7 +9,7 @@ import numpy as np
 from railwear import results
 from railwear.units import MM
 
-TEXT, TABLE, TURNINGS, FIGURE = "plan.txt", "plan.csv", "turnings.csv", "plan.png"
+TEXT, TABLE, TURNINGS, FIGURE, HTML = "plan.txt", "plan.csv", "turnings.csv", "plan.png", "plan.html"
 CHECKPOINT = "plan-checkpoint.npz"
 
 
@@ -150,8 +150,10 @@ def figure(ds):
     from matplotlib.figure import Figure
 
     n_p = ds.sizes["policy"]
-    fig = Figure(figsize=(8, 2.6 * n_p + 3.2), layout="constrained")
+    fig = Figure(figsize=(8, 2.8 * n_p + 3.2), layout="constrained")
     axes = fig.subplots(n_p + 1, 1, squeeze=False)[:, 0]
+    for ax in axes[1:n_p]:
+        ax.sharex(axes[0])  # the policies' lives on one distance scale
     g = _middle(ds)
     growth = float(ds.growth[g])
     for p, name in enumerate(ds.policy.values):
@@ -167,20 +169,28 @@ def figure(ds):
         limit = float(ds.peak_to_peak_limit[p])
         if np.isfinite(limit):
             ax.axhline(limit / MM, color="C3", ls="--", lw=0.8, label=f"trigger {limit / MM:g} mm")
-        ax.set(ylabel="peak to peak (mm)", title=f"{name}: wheel 0 at growth x{growth:g}, "
-               f"{'scrapped after ' + _km(float(life.distance_to_scrap)) + ' km' if np.isfinite(float(life.distance_to_scrap)) else 'not scrapped'}")
+        scrap = float(life.distance_to_scrap)
+        ax.set_title(f"{name}: wheel 0 at growth x{growth:g}, "
+                     + (f"scrapped after {_km(scrap)} km" if np.isfinite(scrap) else "not scrapped"), pad=22)
+        ax.set_ylabel("peak to peak (mm)")
         top = np.nanmax(life.history_peak_to_peak.values[keep]) / MM
-        ax.set_ylim(0, 2.0 * max(top, limit / MM if np.isfinite(limit) else 0))  # the legend above the curves
+        ax.set_ylim(0, 1.1 * max(top, limit / MM if np.isfinite(limit) else 0))
         right = ax.twinx()
         d = life.history_diameter.values[keep] / MM
         right.plot(x, d, color="C2", lw=1.2, label="mean diameter")
-        span = max(np.ptp(d), 1.0)
-        right.set_ylim(d.min() - 0.1 * span, d.max() + 0.9 * span)
-        right.set_ylabel("diameter (mm)", color="C2")
+        last = float(ds.last_turning_diameter[p]) / MM
+        right.axhline(last, color="C2", ls=":", lw=1, label=f"last-turning diameter {last:g} mm")
+        new = float(ds.attrs["new_diameter_m"]) / MM
+        right.set_ylim(last - 0.05 * (new - last), new + 0.05 * (new - last))  # the wheel's whole diameter budget
+        right.set_ylabel("mean diameter (mm)", color="C2")
         right.tick_params(axis="y", colors="C2")
         handles = ax.get_legend_handles_labels()[0] + right.get_legend_handles_labels()[0]
-        ax.legend(handles=handles, fontsize="small", loc="upper right")
+        ax.legend(handles=handles, fontsize="small", loc="lower left", bbox_to_anchor=(0, 1.0), ncol=len(handles),
+                  frameon=False, borderaxespad=0.1, handlelength=1.5, columnspacing=1.0)
         ax.xaxis.set_major_formatter(lambda v, _: f"{v:,.0f}")
+        ax.set_xlim(left=0)
+    for ax in axes[:n_p - 1]:
+        ax.tick_params(labelbottom=False)
     axes[n_p - 1].set_xlabel("distance run (10³ km)")
     ax = axes[-1]
     positions = np.arange(n_p)
@@ -201,16 +211,60 @@ def figure(ds):
     return fig
 
 
-def write(ds, directory, fmt="png", dpi=120, figures=True):
-    """``plan.nc``, ``plan.txt``, ``plan.csv``, ``turnings.csv`` and ``plan.png`` (with
-    ``figures``) in ``directory``, each written atomically; returns their paths."""
+def policy_rows(ds):
+    """``(policy, description, source)`` of each policy of the plan, from its stored file."""
+    import json
+
+    rows = []
+    for i, name in enumerate(ds.policy.values):
+        stored = json.loads(ds.attrs.get(f"policy_{i}", "{}"))
+        rows.append((str(name), stored.get("description", ""), stored.get("source", "")))
+    return rows
+
+
+def _html_value(value):
+    if isinstance(value, float):
+        return "-" if np.isnan(value) else "not scrapped" if np.isinf(value) else (
+            f"{value:,.0f}" if abs(value) >= 1e3 else f"{value:.4g}")
+    return str(value)
+
+
+def draw_figures(ds, directory, fmt="png", dpi=120):
+    """``plan.png`` (and its PDF or SVG) in ``directory``; returns the paths."""
     from railwear import plots
 
+    return [plots.save(figure(ds), Path(directory) / FIGURE, fmt, dpi)]
+
+
+def html_report(ds, path, figures=()):
+    """``plan.html``: the plan's text, the comparison, the policies with their sources, wheel 0's
+    turnings, the figure embedded and the scenario, in one file; returns its path."""
+    from railwear import report as pages
+
+    comparison = comparison_rows(ds)
+    keys = list(comparison[0])
+    turnings = [r for r in turning_rows(ds) if r["wheel"] == 0]
+    blocks = [("p", ds.attrs["growth_band"]), ("h2", "Summary"), ("pre", report(ds)),
+              ("h2", f"Comparison (as {TABLE})"), ("table", (keys, [[_html_value(r[k]) for k in keys] for r in comparison])),
+              ("h2", "Policies"), ("table", (("policy", "description", "source"), policy_rows(ds)))]
+    if turnings:
+        head = list(turnings[0])
+        blocks += [("h2", f"Turnings of wheel 0 ({len(turnings)}; every life's in {TURNINGS})"),
+                   ("table", (head, [[_html_value(r[k]) for k in head] for r in turnings]))]
+    title = f"railwear plan: {ds.attrs['scenario_name']} under {', '.join(str(p) for p in ds.policy.values)}"
+    return pages.write_page(path, title, blocks, figures, scenario=ds.attrs.get("scenario", ""))
+
+
+def write(ds, directory, fmt="png", dpi=120, figures=True):
+    """``plan.nc``, ``plan.txt``, ``plan.csv``, ``turnings.csv``, ``plan.png`` (with ``figures``)
+    and ``plan.html`` (all of it in one file) in ``directory``, each written atomically; returns
+    their paths."""
     directory = Path(directory)
     paths = [results.write_netcdf(ds, directory / "plan.nc"), results.write_text(report(ds), directory / TEXT),
              results.write_text(_csv(comparison_rows(ds)), directory / TABLE)]
     rows = turning_rows(ds)
     paths.append(results.write_text(_csv(rows) if rows else "no turning\n", directory / TURNINGS))
-    if figures:
-        paths.append(plots.save(figure(ds), directory / FIGURE, fmt, dpi))
+    drawn = draw_figures(ds, directory, fmt, dpi) if figures else []
+    paths += drawn
+    paths.append(html_report(ds, directory / HTML, drawn))
     return paths

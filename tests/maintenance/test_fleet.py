@@ -232,7 +232,7 @@ def test_integers_are_stored_as_integers_and_the_files_read_back(tmp_path, polic
     manifest, _ = write_synthetic(tmp_path / "in", 12, np.random.default_rng(5), roughness_um=0.5)
     ds = fleet(SCENARIO, manifest, policy_file, rates=known_rates, batch=5)
     paths = fleets.write(ds, tmp_path / "out", figures=False)  # the figures: in the e2e test
-    assert [p.name for p in paths] == ["fleet.nc", "fleet.txt", "wheels.csv"]
+    assert [p.name for p in paths] == ["fleet.nc", "fleet.txt", "wheels.csv", "fleet.html"]
     back = read_netcdf(tmp_path / "out" / "fleet.nc")
     for name in ("axle", "lines", "manifest_line", "dominant_order", "selected_order", "days_to_action",
                  "days_to_action_early", "node_selected_order"):

@@ -70,7 +70,7 @@ def test_the_order_selected_after_each_turning_follows_the_diameter(drawn):
 
 def test_the_outputs_are_written_and_read_back(drawn, tmp_path):
     paths = outputs.write(drawn, tmp_path)
-    assert [p.name for p in paths] == ["plan.nc", "plan.txt", "plan.csv", "turnings.csv", "plan.png"]
+    assert [p.name for p in paths] == ["plan.nc", "plan.txt", "plan.csv", "turnings.csv", "plan.png", "plan.html"]
     back = read_netcdf(tmp_path / "plan.nc")
     assert np.array_equal(back.turning_distance.values, drawn.turning_distance.values, equal_nan=True)
     assert outputs.report(back) == outputs.report(drawn)
