@@ -4,24 +4,44 @@ Run:  python benchmarks/track.py
 
 Times, in the same run, the point receptance at midspan of a discrete 60E1 track (pads, sleepers,
 ballast at 0.6 m) at 1000 frequencies from 10 to 3000 Hz:
-  1. railwear.track.receptance (Floquet waves, exact for the infinite track), Euler and Timoshenko;
-  2. the alternative a user would write: Euler-Bernoulli beam elements (Hermite cubics, consistent
-     mass), 8 per bay, over 120 bays, the sleepers as masses on springs, assembled once with
-     scipy.sparse and solved with spsolve at each frequency;
-  3. railwear.track.finite.finite_track_receptance (exact spans, 120 bays, dense solves) for scale.
+  1. railwear.track.receptance (Floquet waves, exact for the infinite track, spans and waves in
+     closed form), Euler and Timoshenko;
+  2. the same waves by numpy.linalg.eig of the span and cell matrices, as a user writing Mead's
+     method would (and as railwear did before), Euler;
+  3. the alternative a user would write without a wave method: Euler-Bernoulli beam elements
+     (Hermite cubics, consistent mass), 8 per bay, over 120 bays, the sleepers as masses on
+     springs, assembled once with scipy.sparse and solved with spsolve at each frequency;
+  4. railwear.track.finite.finite_track_receptance (exact spans, 120 bays, dense solves) for scale.
 The FE result is compared with railwear's Euler receptance (it differs by the mesh and the
-reflections from the ends of the finite track).
+reflections from the ends of the finite track). Then the metro case's Fourier growth map (200
+speeds from 30 to 120 km/h x orders 1-100, per cell) and a 128-sample metro forecast, each with
+railwear's receptance and with the eig path, and the time domain (ModalTrack).
+
+BLAS runs on one thread (threadpoolctl where installed, else the environment variables set here
+before numpy loads): a second thread waiting for a shared core made the dense solves swing 19x.
 """
 
+import importlib.util
+import os
+import sys
 import time
 
-import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import spsolve
+THREADPOOLCTL = importlib.util.find_spec("threadpoolctl") is not None
+if not THREADPOOLCTL:
+    for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(_var, "1")
 
-from railwear.track import Support, Track, rail, receptance
-from railwear.track.finite import finite_track_receptance
-from railwear.track.modal import ModalTrack
+import numpy as np  # noqa: E402
+import scipy.sparse as sp  # noqa: E402
+from scipy.linalg import expm  # noqa: E402
+from scipy.sparse.linalg import spsolve  # noqa: E402
+
+from railwear.track import Support, Track, rail, receptance  # noqa: E402
+from railwear.track.finite import finite_track_receptance  # noqa: E402
+from railwear.track.modal import ModalTrack  # noqa: E402
+from railwear.track.receptance import _split_waves  # noqa: E402
+
+RECEPTANCE = sys.modules["railwear.track.receptance"]
 
 F = np.linspace(10.0, 3000.0, 1000)
 SUPPORT = Support(pad_stiffness=1.2e8, pad_loss_factor=0.25, sleeper_mass=150.0, ballast_stiffness=5e7,
@@ -67,6 +87,49 @@ def fe_receptance(track, frequency_hz, n_bays=120, per_bay=8):
     return out
 
 
+class EigSpans:
+    """``exp(A x)`` as ``V e^{μx} V⁻¹`` from ``numpy.linalg.eig`` (scipy's ``expm`` where ``|μ| x < 0.1``)."""
+
+    def __init__(self, A):
+        self.A = A
+
+    def at(self, x):
+        if x == 0.0:
+            return np.broadcast_to(np.eye(4, dtype=complex), self.A.shape).copy()
+        mu, V = np.linalg.eig(self.A)
+        short = np.max(np.abs(mu), axis=-1) * abs(x) < 0.1
+        P = np.empty(self.A.shape, dtype=complex)
+        P[~short] = V[~short] @ (np.exp(mu[~short] * x)[..., None] * np.linalg.inv(V[~short]))
+        if np.any(short):
+            P[short] = expm(self.A[short] * x)
+        return P
+
+
+def eig_waves(T):
+    """The Floquet waves from ``numpy.linalg.eig`` of the cell matrix, sorted by ``|λ| < 1``."""
+    lam, vecs = np.linalg.eig(T)
+    _, _, order = _split_waves(vecs, np.abs(lam) < 1.0)
+    return np.take_along_axis(lam, order, axis=-1), np.take_along_axis(vecs, order[:, None, :], axis=-1)
+
+
+class eig_path:
+    """Within it, railwear's receptance takes its spans and waves from ``numpy.linalg.eig``."""
+
+    def __enter__(self):
+        self.saved = RECEPTANCE._Spans, RECEPTANCE._waves
+        RECEPTANCE._Spans, RECEPTANCE._waves = EigSpans, eig_waves
+
+    def __exit__(self, *exc):
+        RECEPTANCE._Spans, RECEPTANCE._waves = self.saved
+
+
+def with_eig(fn):
+    def run():
+        with eig_path():
+            return fn()
+    return run
+
+
 def best_of(fn, repeat=3):
     times = []
     for _ in range(repeat):
@@ -76,12 +139,59 @@ def best_of(fn, repeat=3):
     return min(times), value
 
 
+def growth_map_and_forecast():
+    """The metro case's growth map per (speed, order) cell and a 128-sample forecast, each with
+    railwear's receptance and with the eig path; the results must agree to 1e-9 relative."""
+    import warnings
+
+    from railwear.analysis import stability
+    from railwear.forecast import forecast
+    from railwear.scenario import load_scenario
+
+    speeds, orders = np.linspace(30.0, 120.0, 200), np.arange(1, 101)
+    stability("metro", speeds[:2], orders[:2])  # imports, caches
+    t_map, new = best_of(lambda: stability("metro", speeds, orders))
+    t_map_eig, old = best_of(with_eig(lambda: stability("metro", speeds, orders)), repeat=2)
+    rate, rate_eig = new.growth_rate.values, old.growth_rate.values
+    agree = np.max(np.abs(rate - rate_eig)) / np.max(np.abs(rate_eig))
+    cells = speeds.size * orders.size
+    print(f"  metro growth map, {speeds.size} speeds x {orders.size} orders: {t_map:.3f} s "
+          f"({t_map / cells * 1e6:.1f} us per cell); with the eig path {t_map_eig:.3f} s "
+          f"({t_map_eig / cells * 1e6:.1f} us per cell); ratio {t_map_eig / t_map:.1f}; largest difference "
+          f"{agree:.1e} of the largest rate")
+
+    x = 2 * np.pi * np.arange(256) / 256
+    deviation = 20e-6 * np.cos(8 * x + 0.3) + 5e-6 * np.cos(3 * x)  # a measured wheel: order 8 and 3
+
+    def run(samples):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return forecast(load_scenario("metro", {"service.samples": samples}), x, deviation, "0.3mm")
+
+    run(2)
+    t_fc, fc = best_of(lambda: run(128), repeat=2)
+    t_fc_eig, fc_eig = best_of(with_eig(lambda: run(128)), repeat=1)
+    same = np.max(np.abs(fc.peak_to_peak.values - fc_eig.peak_to_peak.values)) / np.max(np.abs(fc_eig.peak_to_peak.values))
+    print(f"  metro forecast, 128 samples (order 8 at 20 um, limit 0.3 mm): {t_fc:.2f} s; with the eig path "
+          f"{t_fc_eig:.2f} s; ratio {t_fc_eig / t_fc:.1f}; peak to peak differs by {same:.1e} relative")
+
+
 def main():
+    if THREADPOOLCTL:
+        from threadpoolctl import threadpool_limits
+
+        threadpool_limits(limits=1)
+        blas = "1 (threadpoolctl)"
+    else:
+        blas = f"{os.environ['OPENBLAS_NUM_THREADS']} (OPENBLAS_NUM_THREADS set before numpy loaded)"
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    print(f"BLAS threads: {blas}; load average {load:.2f}; command: python benchmarks/track.py")
     euler = Track(RAIL, SUPPORT, sleeper_spacing=0.6, beam="euler")
     timo = Track(RAIL, SUPPORT, sleeper_spacing=0.6, beam="timoshenko")
     receptance(euler, F[:3])  # imports warm
     t_e, w_e = best_of(lambda: receptance(euler, F, "midspan"))
     t_t, _ = best_of(lambda: receptance(timo, F, "midspan"))
+    t_eig, w_eig = best_of(with_eig(lambda: receptance(euler, F, "midspan")))
     t_fe, w_fe = best_of(lambda: fe_receptance(euler, F), repeat=1)
     step = 20  # the dense exact finite track on every 20th frequency, scaled to 1000
     t_fin, w_fin = best_of(lambda: finite_track_receptance(euler, F[::step], "midspan", n_sleepers=121), repeat=1)
@@ -91,12 +201,15 @@ def main():
     print("receptance, discrete 60E1 track (rail loss factor 0.02), midspan, 1000 frequencies 10-3000 Hz")
     print(f"  railwear Floquet, Euler                    {t_e * 1e3:8.1f} ms")
     print(f"  railwear Floquet, Timoshenko               {t_t * 1e3:8.1f} ms")
+    print(f"  Floquet waves by numpy.linalg.eig, Euler   {t_eig * 1e3:8.1f} ms, ratio to railwear {t_eig / t_e:5.1f}, "
+          f"largest difference {np.max(np.abs(w_eig / w_e - 1)):.1e} relative")
     print(f"  FE track, 960 Hermite elements, 121 sleepers, spsolve per frequency: {t_fe:6.2f} s, "
           f"ratio to railwear (Euler) {t_fe / t_e:6.0f}")
     print(f"  exact finite track, 121 sleepers, dense solves:                      {t_fin:6.2f} s, "
           f"ratio {t_fin / t_e:6.0f}")
     print(f"  FE against the exact finite track of its length (mesh): {mesh:.1e}; finite against infinite "
           f"(121 sleepers, reflections from the ends): {length:.1e}")
+    growth_map_and_forecast()
 
     # time domain: one revolution of a 0.92 m wheel at 300 km/h (2.89 m, 34.7 ms) under a moving load
     for beam, fmax in (("euler", 5000.0), ("euler", 10000.0), ("timoshenko", 10000.0)):
