@@ -18,6 +18,17 @@ mean over the draws of the depth per unit normed time is the Monte Carlo rate, w
 error ``std / sqrt(samples)``. The dynamics see the shape ``u - mean(u)`` (a uniformly smaller
 wheel only lowers the axle), each draw starting at the static approach under its cell.
 
+A duty cycle (:class:`DutyService`) draws a segment ``k`` with the probability ``p_k``, its share
+of the distance, and runs it at its speed ``V_k`` under its traction torque ``T_k = f_k W R0``
+(``f_k`` its signed demand, ``W`` the static load). Each draw's depth is per unit distance run
+(``Δu / (t V)`` times the distance of a unit of normed time), so the expected rate is
+
+    E[r] = Σ_k p_k r_k,
+
+the distance-weighted mean of the segments' rates per distance, exactly, whatever their speeds;
+the Monte Carlo error (the spread of the draws, over the segments too) is reported as for any
+service, and falls as ``1 / sqrt(samples)``.
+
 Coupled (strategy 1): the wheel runs in segments of ``1 / updates_per_revolution`` of a
 revolution over the current surface from where the last one ended; each segment's energy is worn
 off at once with ``A β``. Finer is not better at large ``A``: each update wears the cells just
@@ -132,20 +143,66 @@ class ServiceSpeeds:
         if not (np.isfinite(self.scatter) and self.scatter >= 0):
             raise ScenarioError("service speeds: scatter must be finite and >= 0 (m/s)")
 
+    demands = None  # the model's own demand at every peak; DutyService carries one per peak
+
     @property
     def mean(self):
         """Mean speed (m/s)."""
         return float(np.dot(self.peaks, self.weights))
 
-    def sample(self, rng, n):
-        """``n`` speeds (m/s) drawn with ``rng``."""
+    def draw(self, rng, n):
+        """``n`` draws with ``rng``: their speeds (m/s) and the index of the peak each came from."""
         peak = rng.choice(len(self.peaks), size=n, p=np.asarray(self.weights))
         v = np.asarray(self.peaks)[peak] + self.scatter * rng.standard_normal(n)
         low = v < 0.5
         while np.any(low):
             v[low] = np.asarray(self.peaks)[peak[low]] + self.scatter * rng.standard_normal(int(low.sum()))
             low = v < 0.5
-        return v
+        return v, peak
+
+    def sample(self, rng, n):
+        """``n`` speeds (m/s) drawn with ``rng``."""
+        return self.draw(rng, n)[0]
+
+    def at_peak(self, model, peak):
+        """What a draw from ``peak`` changes in the disk wheel ``model`` besides its speed: here
+        nothing (every peak runs the model's own traction torque)."""
+        return {}
+
+
+@dataclass(frozen=True)
+class DutyService(ServiceSpeeds):
+    """A duty cycle as a service distribution: segment ``k`` runs at the speed ``peaks[k]`` (m/s,
+    with the normal ``scatter``) under the signed demand ``demands[k]`` (creep force over the
+    wheel load: > 0 traction, < 0 braking) and is drawn with the probability ``weights[k]``, its
+    share ``p_k`` of the distance. A draw sets the traction torque ``T_k = f_k W R0``; the mean
+    speed is distance over time, ``V̄ = 1 / Σ_k p_k / V_k`` (the cycle's, as the Fourier technique
+    counts its seconds)."""
+
+    demands: tuple = ()
+
+    def __post_init__(self):
+        super().__post_init__()
+        demands = tuple(float(f) for f in np.atleast_1d(self.demands))
+        object.__setattr__(self, "demands", demands)
+        if len(demands) != len(self.peaks):
+            raise ScenarioError(f"demands: one per peak is needed ({len(self.peaks)}), not {len(demands)}")
+        if not all(np.isfinite(f) and abs(f) < 1 for f in demands):
+            raise ScenarioError("demands: every traction coefficient must lie in (-1, 1)")
+
+    @classmethod
+    def of(cls, duty, scatter=0.0):
+        """The service of a :class:`~railwear.longterm.duty.DutyCycle`."""
+        return cls(tuple(duty.speeds), tuple(duty.shares), scatter, tuple(duty.demands))
+
+    @property
+    def mean(self):
+        """Distance over time, ``1 / Σ_k p_k / V_k`` (m/s)."""
+        return float(1.0 / np.sum(np.asarray(self.weights) / np.asarray(self.peaks)))
+
+    def at_peak(self, model, peak):
+        """The traction torque ``f_k W R0`` (N m) of segment ``peak``."""
+        return {"traction_torque": self.demands[peak] * model.static_load * model.radius}
 
 
 @dataclass(frozen=True)
@@ -154,7 +211,8 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
     and ``u`` are replaced per run) worn by ``law`` (a :class:`~railwear.wear.WearLaw`) over the
     lateral ``band_width`` (m); ``life_distance`` (m) one unit of normed time. Frozen geometry
     draws the speed from ``service`` (default: the model's speed); the coupled run updates the
-    surface ``updates_per_revolution`` times a revolution. The energy law takes the compiled
+    surface ``updates_per_revolution`` times a revolution. A :class:`DutyService` runs a
+    duty cycle: each draw takes a segment's speed and demand. The energy law takes the compiled
     energy sweep; other laws read the contact at ``outputs_per_revolution`` times a revolution
     (:func:`swept_volume`)."""
 
@@ -223,14 +281,15 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
     # frozen geometry
     def frozen_runs(self, shape, rng, cost):
         """The Monte Carlo draws over the frozen ``shape`` (m): for each, the model at its drawn
-        speed, phase and track position, its dynamics, parameters, surface, state after the
+        speed (and, over a duty cycle, its segment's traction torque: ``service.at_peak``), phase
+        and track position, its dynamics, parameters, surface, state after the
         transient, the transient's end (s) and the position; the transient's right-hand sides are
         added to ``cost``."""
-        speeds = self.service.sample(rng, self.samples)
+        speeds, peaks = self.service.draw(rng, self.samples)
         phases = rng.uniform(0.0, 2.0 * np.pi, self.samples)
-        for v, phase, where in zip(speeds, phases, self.positions(rng, self.samples)):
+        for v, k, phase, where in zip(speeds, peaks, phases, self.positions(rng, self.samples)):
             model = replace(self.model, speed=float(v), radius_deviation=shape, initial_angle=float(phase),
-                            initial_lift=start_lift(self.model, shape, phase))
+                            initial_lift=start_lift(self.model, shape, phase), **self.service.at_peak(self.model, k))
             dyn = self.dynamics(model)
             p, surf = model.params(), model.surface()
             y, where, t0 = self._transient(model, dyn, p, surf, where, cost)

@@ -16,6 +16,14 @@ the law selects the orders the dynamics select. The local part is one of:
   demand (:func:`quasi_static_contact`: Kalker ``f11 ∝ N^(2/3)``, Johnson-Vermeulen saturation
   at ``μ N``, nothing below contact loss), spread over the patch (``B_n = F_n``).
 
+Over a duty cycle ``Λ`` is the cycle's (:class:`~railwear.longterm.fourier.FourierCycle`): per
+unit distance ``Σ_k p_k λ_n^k / V_k``, exact for the linear part however the segments alternate,
+since each segment's operator is diagonal in ``n``. The load nonlinearity is not averaged: each
+segment has its own ``A_n`` (the load transfer at its wheel speed), ``B_n`` and ``g`` (the contact
+under its demand), so the cycle's law would be ``Λ̄ u + Σ_k p_k (L/V_k) B_k g_k(A_k u)``, a sum of
+as many nonlinear terms as segments, where the solver takes one; a cycle runs with ``local``
+``None`` or a local law ``h(u_xx)``, and the load is refused.
+
 ``grid_points`` puts the filter of the direct strategy's surface grid on the multipliers: it reads
 ``u`` linearly interpolated between nodes (``sinc²(n/N)`` on ``A``) and gathers the wear on whole
 cells (``sinc(n/N)`` on ``B``), ``sinc³`` on ``λ_n`` (docs/strategies.md, grid study).
@@ -28,7 +36,7 @@ import numpy as np
 from railwear.contact.saturation import inverse_cubic
 from railwear.errors import ScenarioError
 from railwear.longterm.base import Strategy, checked_start
-from railwear.longterm.fourier import Fourier, contact_filter
+from railwear.longterm.fourier import Fourier, FourierCycle, contact_filter
 from railwear.longterm.phenomenological import finish, solver_checkpoints
 from railwear.pde import BuiltinRate, Cubic, Pointwise
 from railwear.pde.multiplier import Fixed, Remainder, solve_multiplier
@@ -113,7 +121,8 @@ def load_nonlinearity(wheel, depth_per_driver, driver=None):
 
 @dataclass(frozen=True, eq=False)
 class Multiplier(Strategy, name="multiplier"):
-    """The multiplier law on a wheel whose ``fourier`` (:class:`Fourier`) gives ``λ_n``;
+    """The multiplier law on a wheel whose ``fourier`` (:class:`Fourier`, or a
+    :class:`~railwear.longterm.fourier.FourierCycle` without the load) gives ``λ_n``;
     ``life_distance`` (m) is one unit of normed time. ``local``: ``None``, a built-in form
     ``h(u_xx)`` (m per unit normed time) or ``"load"``; the load needs ``wheel`` (the
     :class:`~railwear.dynamics.DiskWheelModel` whose contact it is) and ``load_transfer`` (``N̂ /
@@ -145,6 +154,9 @@ class Multiplier(Strategy, name="multiplier"):
             raise ScenarioError("life_distance must be > 0 (m)")
         if self.local == "load" and (self.wheel is None or self.load_transfer is None):
             raise ScenarioError("local = 'load' needs the wheel and its load_transfer")
+        if self.local == "load" and isinstance(self.fourier, FourierCycle):
+            raise ScenarioError("local: the load nonlinearity is one per segment, not over a duty cycle (FourierCycle); "
+                                "use local = None")
         if not (self.local is None or self.local == "load" or isinstance(self.local, BuiltinRate)):
             raise ScenarioError("local must be None, 'load' or a built-in wear-rate form")
         if self.grid_points is not None and not (int(self.grid_points) == self.grid_points >= 2):

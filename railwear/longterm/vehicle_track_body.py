@@ -7,7 +7,8 @@ frictional power ``π = Fx ξ V``) rolling over the rail of a :class:`~railwear.
 residual flexibility), wheel and track in one compiled RK4 loop. Everything else is the disk
 wheel's (:class:`~railwear.longterm.disk_wheel.DiskWheel`): the wear of a cell is
 ``Δu_j = -β E_j / (R0 Δx w)`` from the frictional energy ``E_j`` swept onto it, frozen-geometry
-draws of phase and speed with their Monte Carlo error, coupled segments with ``A β``. What is
+draws of phase and speed (over a duty cycle, of the segment with its speed and traction torque,
+:class:`~railwear.longterm.disk_wheel.DutyService`) with their Monte Carlo error, coupled segments with ``A β``. What is
 new is where the wheel is on the track: each draw starts at a uniformly random position along
 the ring (so over a random offset in the sleeper bay) with the track at rest under the static
 load there, and the coupled run carries the position on.

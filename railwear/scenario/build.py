@@ -183,20 +183,20 @@ def linear_model(scenario: Scenario, speed):
 
 @builds("multiplier")
 def multiplier(scenario: Scenario):
-    """The multiplier law at the one speed on the body's linear model (``[strategy] local``),
-    stopping at ``solver.peak_to_peak_limit_mm``."""
-    from railwear.longterm.fourier import Fourier
+    """The multiplier law on the body's linear model (``[strategy] local``) at the one speed, or
+    with ``local = "none"`` over the ``[operation]`` duty cycle on its averaged Fourier rates
+    (:func:`fourier_technique`), stopping at ``solver.peak_to_peak_limit_mm``."""
     from railwear.longterm.multiplier import Multiplier
 
-    st, solver, law = scenario.strategy, scenario.solver, wear_law(scenario)
-    model, band = linear_model(scenario, one_speed(scenario))
+    st, solver = scenario.strategy, scenario.solver
     limit = solver.peak_to_peak_limit_mm
     options = {"grid_points": st.grid_points, "body": scenario.body.kind,
                "peak_to_peak_limit": None if limit is None else limit * MM, "epsilon": solver.epsilon, "nu": solver.nu,
                "options": {"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt}}
     if st.local == "none":
-        return Multiplier.from_fourier(Fourier.disk_wheel(model, law, band), life_distance(scenario), **options)
-    return Multiplier.from_model(model, law, band, life_distance(scenario), **options)
+        return Multiplier.from_fourier(fourier_technique(scenario), life_distance(scenario), **options)
+    model, band = linear_model(scenario, one_speed(scenario))
+    return Multiplier.from_model(model, wear_law(scenario), band, life_distance(scenario), **options)
 
 
 def wear_law(scenario: Scenario):
@@ -212,10 +212,14 @@ def band_width(scenario: Scenario):
 
 def service_speeds(scenario: Scenario):
     """The speed distribution (m/s) of ``[service]``; without peaks there, the operation speed
-    with the service scatter."""
-    from railwear.longterm.disk_wheel import ServiceSpeeds
+    with the service scatter; over an ``[operation]`` duty cycle its segments, each drawn with its
+    share of the distance at its speed (with the service scatter) and demand
+    (:class:`~railwear.longterm.disk_wheel.DutyService`)."""
+    from railwear.longterm.disk_wheel import DutyService, ServiceSpeeds
 
-    service, speeds = scenario.service, scenario.operation.speeds
+    service, speeds, duty = scenario.service, scenario.operation.speeds, scenario.operation.duty()
+    if duty is not None:
+        return DutyService.of(duty, kmh_to_m_s(service.speed_scatter_kmh))
     if service.speed_kmh is not None:
         peaks = kmh_to_m_s(list(service.speed_kmh))
     else:
@@ -231,7 +235,8 @@ def life_distance(scenario: Scenario):
 
 @builds("stepwise")
 def stepwise(scenario: Scenario):
-    """Strategy 3 on the body, the disk wheel over the ``[service]`` speeds, seeded by ``service.seed``."""
+    """Strategy 3 on the body, the disk wheel over the ``[service]`` speeds or the segments of the
+    ``[operation]`` duty cycle (:func:`service_speeds`), seeded by ``service.seed``."""
     from railwear.longterm.stepwise import Stepwise
 
     st = scenario.strategy

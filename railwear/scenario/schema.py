@@ -402,7 +402,8 @@ class StrategySection(_Section):
     another kind is an error). ``needs`` is what it asks of the ``[body]`` (a key of
     :data:`NEEDS`, ``None``: nothing, as the evolution equation of ``[wear_rate]``);
     ``reads`` which of the :data:`OPTIONAL_PARTS` it reads; ``batches_speeds`` whether a list of
-    speeds runs as one batch; ``runs_cycles`` whether it runs an ``[operation]`` duty cycle. A new strategy registers its
+    speeds runs as one batch; ``runs_cycles`` whether it runs an ``[operation]`` duty cycle
+    (:meth:`cycle_refusal` names a field of its own that keeps it from one). A new strategy registers its
     section with :func:`strategy_section` and its builder with :func:`railwear.scenario.build.builds`."""
 
     kind: str
@@ -411,6 +412,10 @@ class StrategySection(_Section):
     reads: ClassVar[frozenset] = frozenset()
     batches_speeds: ClassVar[bool] = False
     runs_cycles: ClassVar[bool] = False
+
+    def cycle_refusal(self):
+        """``(field, reason)`` of a setting of this section that cannot run a duty cycle, or ``None``."""
+        return None
 
 
 STRATEGY_SECTIONS: dict = {}
@@ -452,13 +457,22 @@ class MultiplierSection(StrategySection):
     linear part, plus ``local`` = ``"load"`` (the contact's load nonlinearity: creep stiffness,
     saturation, contact loss) or ``"none"``, on the body's linear model. ``grid_points``: the
     surface grid of a direct run to compare with (filters the rates as that grid does).
-    ``[solver] epsilon`` and ``nu`` default to 0 here."""
+    ``[solver] epsilon`` and ``nu`` default to 0 here. Over a duty cycle (``local = "none"``) the
+    rates are the cycle's distance-weighted Fourier rates."""
 
     kind: Literal["multiplier"] = "multiplier"
     needs: ClassVar[str] = "linear_model"
     reads: ClassVar[frozenset] = EQUATION | {"solver.peak_to_peak_limit_mm"}
+    runs_cycles: ClassVar[bool] = True
     local: Literal["load", "none"] = "load"
     grid_points: Annotated[int, Field(ge=2, le=65536)] | None = None
+
+    def cycle_refusal(self):
+        if self.local == "load":
+            return "local", ("the load nonlinearity is one per segment (its load transfer, contact and table depend on "
+                             "the segment's speed and demand), and the solver takes one; over a duty cycle use "
+                             "local = \"none\" (the cycle's averaged Fourier rates)")
+        return None
 
 
 @strategy_section
@@ -466,10 +480,12 @@ class StepwiseSection(StrategySection):
     """Stepwise frozen geometry: ``step_limit_um`` the largest change of ``u``
     (``step_limit_on = "u"``) or of its shape ``u - mean(u)`` (``"shape"``) per long-term step,
     taken by ``scheme`` (``"euler"``, or ``"adams-bashforth"``: second order at the same cost per
-    step); the body's frozen-geometry rates are drawn as ``[body]`` says."""
+    step); the body's frozen-geometry rates are drawn as ``[body]`` says, over a duty cycle each
+    draw from a segment with the probability of its share of the distance."""
 
     kind: Literal["stepwise"] = "stepwise"
     needs: ClassVar[str] = "rates"
+    runs_cycles: ClassVar[bool] = True
     step_limit_um: Annotated[float, Field(gt=0, le=1e6)] = 10.0
     step_limit_on: Literal["u", "shape"] = "u"
     scheme: Literal["euler", "adams-bashforth"] = "euler"
@@ -835,6 +851,13 @@ class Scenario(_Section):
             able = [k for k, c in STRATEGY_SECTIONS.items() if c.runs_cycles]
             raise refuse(("operation", given), f"the {self.strategy.kind} strategy runs one operating point; a duty "
                                                f"cycle runs with the {' or '.join(able)} strategy")
+        if not self.body.longitudinal_demand:
+            raise refuse(("operation", given), f"body {self.body.kind!r} carries no longitudinal demand to cycle")
+        refusal = self.strategy.cycle_refusal()
+        if refusal is not None:
+            raise refuse(("strategy", refusal[0]), refusal[1])
+        if self.strategy.needs == "rates" and self.service.speed_kmh is not None:
+            raise refuse(("service", "speed_kmh"), f"operation.{given} gives the speeds the draws take; leave it out")
         if "traction_coefficient" in self.contact.model_fields_set:
             raise refuse(("contact", "traction_coefficient"), f"operation.{given} gives the demand per segment; "
                                                               "leave it out")

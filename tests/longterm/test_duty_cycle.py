@@ -111,9 +111,10 @@ def test_a_bad_cycle_is_refused_naming_the_field(change, field):
         metro_with(change)
 
 
-def test_a_cycle_runs_with_the_fourier_strategy_and_carries_the_demand():
-    with pytest.raises(ScenarioError, match=r"operation\.cycle: the stepwise strategy runs one operating point"):
-        load_scenario(metro_with({"cycle": CYCLE}), ["strategy.kind=stepwise"])
+def test_a_cycle_runs_with_the_strategies_that_run_one_and_carries_the_demand():
+    with pytest.raises(ScenarioError, match=r"operation\.cycle: the direct strategy runs one operating point"):
+        load_scenario(metro_with({"cycle": CYCLE}), ["strategy.kind=direct"])
+    assert load_scenario(metro_with({"cycle": CYCLE}), ["strategy.kind=stepwise"]).operation.duty() is not None
     with pytest.raises(ScenarioError, match=r"contact\.traction_coefficient: operation\.cycle gives the demand"):
         metro_with({"cycle": CYCLE}, traction_coefficient=0.05)
     braking = load_scenario("metro", ["contact.traction_coefficient=-0.05"])
