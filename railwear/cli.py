@@ -466,9 +466,9 @@ def stability(
 
 def _map_marks(sc):
     """What a stability map draws over the growth: the scenario's speed (km/h) and wheel diameter
-    (m), and for a wheel on a track the P2 frequency (Hz), whose order ``n = f π D / V`` the map
-    draws over the speed; the normed life (km), by which a map per unit normed time is drawn per
-    10 000 km."""
+    (m), and for a wheel on a track the P2 frequency and the wheelset modes' (Hz), whose orders
+    ``n = f π D / V`` the map draws over the speed; the normed life (km), by which a map per unit
+    normed time is drawn per 10 000 km."""
     from railwear.units import m_s_to_kmh
 
     marks = {"wheel_diameter_m": 2 * sc.wheel.radius_m, "life_distance_km": sc.operation.life_distance_km}
@@ -481,6 +481,8 @@ def _map_marks(sc):
         case = sc.body.case(sc)
         model = VehicleTrackModel(case.wheel(build.one_speed(sc)), case.track, sc.track.bay_positions, case.wheel_modes)
         marks["p2_frequency_hz"] = float(p2_frequency(model))
+        if case.wheel_modes:
+            marks["wheel_mode_frequencies_hz"] = [float(m[0]) for m in case.wheel_modes]
     return marks
 
 

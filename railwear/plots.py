@@ -398,11 +398,12 @@ def stability(map_ds):
 
 def _stability_lines(ax, map_ds, speed):
     """On a stability map, where its attributes give them: the run's speed (``run_speed_kmh``) and
-    the order the P2 resonance ``p2_frequency_hz`` excites at each speed on a wheel of
-    ``wheel_diameter_m``, ``n = f π D / V``."""
+    the orders the P2 resonance ``p2_frequency_hz`` and the wheelset modes
+    ``wheel_mode_frequencies_hz`` excite at each speed on a wheel of ``wheel_diameter_m``,
+    ``n = f π D / V``."""
     a, lines = map_ds.attrs, False
     if "run_speed_kmh" in a and speed.min() <= a["run_speed_kmh"] <= speed.max():
-        ax.axvline(a["run_speed_kmh"], color="k", ls="--", lw=1, label=f"the run: {a['run_speed_kmh']:g} km/h")
+        ax.axvline(a["run_speed_kmh"], color="k", ls="--", lw=1, label=f"the run: {a['run_speed_kmh']:.4g} km/h")
         lines = True
     if "p2_frequency_hz" in a and "wheel_diameter_m" in a:
         v = np.linspace(speed.min(), speed.max(), 200)
@@ -410,6 +411,9 @@ def _stability_lines(ax, map_ds, speed):
         top = float(map_ds.order.max()) + 0.5
         ax.plot(v[n <= top], n[n <= top], color="0.25", ls="-.", lw=1.2,
                 label=f"n = f π D / V, P2 {a['p2_frequency_hz']:.1f} Hz")
+        for f in np.atleast_1d(a.get("wheel_mode_frequencies_hz", [])):
+            n = f * np.pi * a["wheel_diameter_m"] / (v / 3.6)
+            ax.plot(v[n <= top], n[n <= top], color="0.25", ls=":", lw=1.2, label=f"wheelset mode {f:.0f} Hz")
         ax.set_ylim(float(map_ds.order.min()) - 0.5, top)
         lines = True
     if lines:

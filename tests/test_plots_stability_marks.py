@@ -37,6 +37,19 @@ def test_the_run_and_the_p2_order_are_drawn():
     assert p2.get_ydata()[at] == pytest.approx(55.75 * np.pi * 0.84 / (70 / 3.6), rel=0.01)  # 7.6: order 8 grows
 
 
+def test_the_wheelset_modes_of_the_high_speed_case_are_drawn():
+    marks = _map_marks(load_scenario("high-speed"))
+    assert marks["wheel_mode_frequencies_hz"] == [590.0] and marks["wheel_diameter_m"] == 0.92
+    fast = _map("km-1", wheel_diameter_m=0.92, p2_frequency_hz=40.0, wheel_mode_frequencies_hz=[590.0])
+    fast = fast.assign_coords(speed=fast.speed * 3)  # 90-360 km/h, where the mode passes orders 17-68
+    ax = plots.stability(fast).axes[0]
+    assert [t.get_text() for t in ax.get_legend().get_texts()][-1] == "wheelset mode 590 Hz"
+    mode = ax.get_lines()[-1]
+    assert mode.get_ydata().max() <= 30.5 and mode.get_xdata().min() > 190  # clipped to the map's orders
+    at = np.argmin(np.abs(mode.get_xdata() - 300.0))
+    assert mode.get_ydata()[at] == pytest.approx(590.0 * np.pi * 0.92 / (mode.get_xdata()[at] / 3.6), rel=1e-12)
+
+
 def test_a_map_per_unit_normed_time_is_drawn_per_10000_km():
     fig = plots.stability(_map("1", life_distance_km=50000.0))
     colour_bar = fig.axes[1]
