@@ -1,5 +1,5 @@
 """The stepwise strategy over a duty cycle against the cycle's averaged Fourier rates: the table of
-docs/vehicle_track.md's "Duty cycles" section (about 40 s).
+docs/vehicle_track.md's "Duty cycles" section (about 20 s).
 
 The disk wheel on its rail mass (the 'stepwise' built-in, 64 cells) pulls at +0.05 x its load at
 40 km/h and brakes at -0.05 at 60 km/h, half the distance each, from 2 um harmonics of orders

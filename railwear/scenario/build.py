@@ -270,6 +270,10 @@ def fitted_h(scenario: Scenario, speeds=None, scales=(0.5, 1.0, 1.5, 2.0), degre
     from railwear.longterm.fitting import fit_h, gather
 
     disk_wheel_model(scenario, 1.0)  # a disk wheel's, or refused
+    op = scenario.operation
+    if op.duty() is not None:
+        raise ScenarioError(f"operation.{'cycle' if op.cycle is not None else 'line'}: h is fitted at one traction demand "
+                            "(contact.traction_coefficient) over speeds; fit a scenario at one operating point")
     frozen = body(scenario)
     speeds = np.atleast_1d(service_speeds(scenario).peaks if speeds is None else speeds).astype(float)
     scatter = frozen.service.scatter

@@ -193,3 +193,9 @@ def test_a_cycle_with_service_peaks_or_on_the_wheelset_is_refused():
     data["contact"].pop("traction_coefficient", None)
     with pytest.raises(ScenarioError, match=r"operation\.cycle: body 'wheelset' carries no longitudinal demand"):
         parse_scenario(data)
+
+
+def test_the_fit_of_h_refuses_a_cycle():
+    """h is fitted at one demand over speeds: a cycle would be left out silently, so it is refused."""
+    with pytest.raises(ScenarioError, match=r"operation\.cycle: h is fitted at one traction demand"):
+        build.fitted_h(stepwise_with({"cycle": TWO}))
