@@ -552,7 +552,10 @@ def measured_text(ds):
 
 
 def report(ds):
-    """Lines for a person: the measured wheel, the limit, and when it is reached, in words."""
+    """Lines for a person: the measured wheel, the limit, and when it is reached, in words (and in
+    months of service where the scenario gives ``operation.daily_distance_km``)."""
+    from railwear.results import daily_distance_km, months
+
     a = ds.attrs
     horizon, samples = a["horizon_km"], ds.sizes["sample"]
     name = a.get("limit_name", f"{a.get('limit_m', float('nan')) / MM:g} mm peak to peak")
@@ -560,6 +563,13 @@ def report(ds):
     lines.append(f"limit: {name}")
     excess = ds.excess.values if "excess" in ds else None
     where = _limiting(ds)
+    daily = daily_distance_km(ds)
+    if daily:
+        lines.append(f"  months of service at {daily:g} km a day (operation.daily_distance_km)")
+
+    def at(x):
+        return _km(x, horizon) + (f" ({months(x, daily):.1f} months)" if daily and np.isfinite(x) else "")
+
     if a.get("above_at_start", 0) or (np.isfinite(a["crossing_p95_km"]) and a["crossing_p95_km"] == 0):
         over = f" by {a['initial_excess_db']:.1f} dB" if "initial_excess_db" in a else ""
         lines.append(f"  already above the limit at 0 km{over}{f' ({where})' if where else ''}: "
@@ -573,13 +583,13 @@ def report(ds):
                      f"({samples} samples){closest}; dominant order at {horizon:,.0f} km: {a['dominant_order']}")
     else:
         if not a.get("scatter", 1):
-            when = (f"reached after {_km(a['crossing_median_km'], horizon)}, the same for every sample: the "
+            when = (f"reached after {at(a['crossing_median_km'])}, the same for every sample: the "
                     "scenario has no service scatter, so there is no band")
         elif np.isfinite(a["crossing_median_km"]):
             share = ("every sample reaches it" if a["fraction_crossed"] == 1 else
                      f"{a['fraction_crossed']:.0%} of {samples} samples reach it within {horizon:,.0f} km")
-            when = (f"reached after {_km(a['crossing_median_km'], horizon)} (median of {samples} samples), "
-                    f"90 % band {_km(a['crossing_p05_km'], horizon)} to {_km(a['crossing_p95_km'], horizon)}; {share}")
+            when = (f"reached after {at(a['crossing_median_km'])} (median of {samples} samples), "
+                    f"90 % band {at(a['crossing_p05_km'])} to {at(a['crossing_p95_km'])}; {share}")
         else:
             first = (f"the first 5 % after {a['crossing_p05_km']:,.0f} km" if np.isfinite(a["crossing_p05_km"]) else
                      f"the first after {np.nanmin(ds.crossing_distance.values):,.0f} km")

@@ -68,6 +68,17 @@ def test_without_scatter_the_crossing_is_the_closed_form(tmp_path):
     assert ds.attrs["dominant_order"] == ORDER
 
 
+def test_the_crossing_is_also_said_in_months_at_the_daily_mileage(tmp_path):
+    angle, dev, _ = wheel(tmp_path)
+    text = scenario_text(0.0, samples=4).replace("life_distance_km = 10000.0", "life_distance_km = 10000.0\ndaily_distance_km = 600.0")
+    ds = forecast.forecast(parse_scenario(text), angle, dev, LIMIT)
+    said = forecast.report(ds)
+    km = float(ds.crossing_distance[0])
+    assert "months of service at 600 km a day (operation.daily_distance_km)" in said
+    assert f"reached after {km:,.0f} km ({km / 600 / (365.25 / 12):.1f} months)" in said
+    assert "months" not in forecast.report(forecast.forecast(parse_scenario(scenario_text(0.0, samples=4)), angle, dev, LIMIT))
+
+
 def test_known_crossing_lies_in_the_monte_carlo_band(tmp_path):
     angle, dev, _ = wheel(tmp_path)
     ds = forecast.forecast(parse_scenario(scenario_text(10.0)), angle, dev, LIMIT)
