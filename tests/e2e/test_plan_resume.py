@@ -1,9 +1,9 @@
 """``railwear plan`` killed with SIGKILL and resumed with ``--resume`` from a fresh interpreter:
-the uninterrupted plan.nc, bit for bit."""
+the uninterrupted plan.nc (run in this process), bit for bit."""
 
 import pytest
 
-from test_fresh_process import assert_same_result, killed_at, railwear
+from test_fresh_process import assert_same_result, killed_at, railwear, uninterrupted
 
 pytestmark = pytest.mark.e2e
 
@@ -12,7 +12,7 @@ PLAN = ("plan", "metro", "--policy", "metro-condition", "--policy", "metro-inter
 
 
 def test_a_killed_plan_resumes_to_the_same_plan(tmp_path):
-    railwear(*PLAN, "-o", tmp_path / "reference", cwd=tmp_path)
+    uninterrupted(*PLAN, "-o", tmp_path / "reference")
     out = tmp_path / "killed"
     killed_at(40, *PLAN, "-o", out, "--checkpoint-every", "0", cwd=tmp_path)
     assert (out / "plan-checkpoint.npz").is_file() and not (out / "plan.nc").exists()
