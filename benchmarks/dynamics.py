@@ -114,9 +114,11 @@ def wheelset_case():
                               False, 1e6, np.zeros(0), cut)
         return out[1][: out[2]], (out[6] if stats else int(out[6][integ.STAT_NFEV]))
 
+    entry = kernels.rhs.bind(model.kind, 0.0, y0.copy(), p, surf, np.empty(4))  # the compiled entry point
+
     def rhs(t, y):
         out = np.empty(4)
-        kernels.rhs(model.kind, t, y, p, surf, out)
+        entry(model.kind, t, y, p, surf, out)
         return out
 
     def scipy_run(method, rtol, atol, fun=rhs):

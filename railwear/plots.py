@@ -1,6 +1,7 @@
 """Figures of a result: the paper's Figs 9-11, the polygon spectrum and the stability map, the
 wheelset's worn lateral profile and angular pattern (layer 4)."""
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -478,11 +479,42 @@ def save(fig, path, format="png", dpi=DPI):
     return written
 
 
-def write_figures(ds, directory, format="png", dpi=DPI):
+def write_figures(ds, directory, format="png", dpi=DPI, parallel=False):
     """Every figure of a result as ``DIRECTORY/NAME.png`` (and ``.pdf`` or ``.svg`` with
-    ``format``); returns the paths of the requested format."""
-    figures = BODY_FIGURES.get(ds.attrs.get("body"), FIGURES)
-    return [save(make(ds), Path(directory) / f"{name}.png", format, dpi) for name, make in figures.items()]
+    ``format``); returns the paths of the requested format. ``parallel``: every other figure is
+    drawn by a forked process at the same time (the command line does this: drawing is most of
+    its time), the same files; where there is no fork, one processor or other threads, in turn."""
+    figures = list(BODY_FIGURES.get(ds.attrs.get("body"), FIGURES).items())
+    paths = [Path(directory) / f"{name}.png" for name, _ in figures]
+
+    def draw(i):
+        return save(figures[i][1](ds), paths[i], format, dpi)
+
+    child = _fork(lambda: [draw(i) for i in range(1, len(figures), 2)]) if parallel and len(figures) > 1 else None
+    if child is None:
+        return [draw(i) for i in range(len(figures))]
+    written = [draw(i) if i % 2 == 0 else paths[i].with_suffix(f".{format}") for i in range(len(figures))]
+    _, status = os.waitpid(child, 0)
+    if status != 0:  # the child failed: draw its figures here, where an error is seen
+        written = [draw(i) if i % 2 else written[i] for i in range(len(figures))]
+    return written
+
+
+def _fork(work):
+    """Run ``work()`` in a forked child process; its id, or None where that is not safe or useful."""
+    import threading
+
+    if not hasattr(os, "fork") or len(os.sched_getaffinity(0)) < 2 or threading.active_count() > 1:
+        return None
+    pid = os.fork()
+    if pid:
+        return pid
+    try:
+        work()
+        status = 0
+    except BaseException:  # noqa: BLE001  (the parent draws them again and sees the error)
+        status = 1
+    os._exit(status)
 
 
 REGIME_COLOURS = {"stable": "#4daf4a", "smoothing": "#377eb8", "onset": "#ff7f00",

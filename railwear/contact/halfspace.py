@@ -31,7 +31,6 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy import fft as sfft
 
 from railwear.contact._checks import as_float_array, non_negative, positive
 from railwear.contact.hertz import effective_modulus
@@ -100,6 +99,8 @@ def tangential_influence_coefficients(X, S, dx, ds, shear_modulus, poisson):
 
 def _wrapped_offsets(nx, ns, dx, ds):
     """Offsets [m] of the padded grid in wrap-around order and that grid's shape."""
+    from scipy import fft as sfft  # scipy.fft here and below, not at import (0.1-0.4 s)
+
     Lx, Ls = sfft.next_fast_len(2 * nx - 1, real=True), sfft.next_fast_len(2 * ns - 1, real=True)
     ix = np.arange(Lx)
     js = np.arange(Ls)
@@ -120,6 +121,8 @@ def _kernel(nx, ns, dx, ds, modulus, component="zz", poisson=0.0):
     else:
         K = tangential_influence_coefficients(X, S, dx, ds, modulus, poisson)[("xx", "xy", "yy").index(component)]
     K = np.where(unused, 0.0, K)  # offsets no element pair has
+    from scipy import fft as sfft
+
     return sfft.rfft2(K), padded
 
 
@@ -132,6 +135,8 @@ class _Convolution:
         self.khat, self.padded = _kernel(nx, ns, float(dx), float(ds), float(estar), component, float(poisson))
 
     def __call__(self, p):
+        from scipy import fft as sfft
+
         out = sfft.irfft2(sfft.rfft2(p, s=self.padded) * self.khat, s=self.padded)
         return out[: self.shape[0], : self.shape[1]]
 

@@ -59,7 +59,20 @@ def _factor_table():
     return u, gb**2 / (r * (1.0 + q)), (gb / ga) ** 2
 
 
-_U, _EPS, _APRIME = _factor_table()
+_TABLE = []  # (u, ε, A'/B) once a contact needs it: 4001 Hertz solutions cost 0.1-0.25 s at import
+
+
+def factor_table():
+    """The table of :func:`_factor_table`, computed on first use."""
+    if not _TABLE:
+        _TABLE.extend(_factor_table())
+    return tuple(_TABLE)
+
+
+def __getattr__(name):  # the table's arrays by their former names (_U, _EPS, _APRIME), computed on first use
+    if name in ("_U", "_EPS", "_APRIME"):
+        return factor_table()[("_U", "_EPS", "_APRIME").index(name)]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @njit(cache=True)
@@ -74,7 +87,8 @@ def hertz_matched_factors(A, B):
     curvatures A, B [1/m] (module docstring; 0.5 and A for the circle)."""
     A, B = positive(A, "A"), positive(B, "B")
     A, B = np.broadcast_arrays(A, B)
-    out = np.array([_factors(a, b, _U, _EPS, _APRIME) for a, b in zip(A.ravel(), B.ravel())]).reshape(A.shape + (2,))
+    table = factor_table()
+    out = np.array([_factors(a, b, *table) for a, b in zip(A.ravel(), B.ravel())]).reshape(A.shape + (2,))
     return out[..., 0], out[..., 1]
 
 
@@ -288,7 +302,7 @@ def semi_hertz_contact(s, f, A, normal_force, youngs_modulus, poisson, youngs_mo
     q = np.empty(f.size)
 
     def evaluate(d):
-        return patch_kernel(f, start, h, A, d, estar, _U, _EPS, _APRIME, q)
+        return patch_kernel(f, start, h, A, d, estar, *factor_table(), q)
 
     if approach is None:
         load = float(non_negative(normal_force, "normal_force"))

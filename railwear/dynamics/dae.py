@@ -199,9 +199,10 @@ def wheelset_ggl_problem(model, roll_inertia, gravity=9.81) -> GGLProblem:
     surf = np.zeros(0)
     jac = np.array([[-lam, 1.0, e, 0.0], [lam, 1.0, -e, 0.0]])
     out = np.empty(4)
+    rhs = k.rhs.bind(k.KIND_WHEELSET, 0.0, np.zeros(4), p, surf, out)  # the entry point: no look-up per residual
 
     def force(t, q, v):
-        k.rhs(k.KIND_WHEELSET, t, np.array([q[0], q[3], v[0], v[3]]), p, surf, out)
+        rhs(k.KIND_WHEELSET, t, np.array([q[0], q[3], v[0], v[3]]), p, surf, out)
         return np.array([out[2], -model.mass * gravity, 0.0, out[3]])
 
     return _fixed_linear_constraints(mass_matrix, force, jac)
@@ -275,9 +276,13 @@ def disk_wheel_ggl_problem(model, rotation=False, initial_spin=None):
 
     state = _disk_wheel_ode_state(model)
     p, dydt = model.params(), np.empty(model.n_states)
+    rhs = []  # the entry point for the first residual's argument types: no look-up per residual after it
 
     def creep(t, q, v, lam):
-        k.rhs(k.KIND_DISK_WHEEL, t, state(t, q, v, lam), p, surf, dydt)
+        y = state(t, q, v, lam)
+        if not rhs:
+            rhs.append(k.rhs.bind(k.KIND_DISK_WHEEL, t, y, p, surf, dydt))
+        rhs[0](k.KIND_DISK_WHEEL, t, y, p, surf, dydt)
         f = np.zeros(n)
         f[0] = model.wheel_inertia * dydt[1]  # the traction torque and the creep force's moment
         return f
@@ -365,9 +370,10 @@ def bogie_ggl_problem(model, roll_inertia, gravity=9.81) -> GGLProblem:
         jac[2 * i + 1, 4 * i:4 * i + 3] = (lam, 1.0, -e)
     minimal = [0, 3, 4, 7, 8, 9]  # y1, psi1, y2, psi2, y_f, psi_f in q
     out = np.empty(12)
+    rhs = k.rhs.bind(k.KIND_BOGIE, 0.0, np.zeros(12), p, surf, out)  # the entry point: no look-up per residual
 
     def force(t, q, v):
-        k.rhs(k.KIND_BOGIE, t, np.concatenate([q[minimal], v[minimal]]), p, surf, out)
+        rhs(k.KIND_BOGIE, t, np.concatenate([q[minimal], v[minimal]]), p, surf, out)
         f = np.zeros(10)
         f[minimal] = out[6:]
         f[[1, 5]] = -model.wheelset_mass * gravity

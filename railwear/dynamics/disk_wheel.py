@@ -6,7 +6,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from railwear.contact.creep_tables import fastsim_creep_curve
 from railwear.dynamics import kernels as k
@@ -167,6 +166,8 @@ class DiskWheelModel:
         upper = 3.0 * xi_lin
         while residual(upper) * np.sign(demand) < 0.0:  # FASTSIM approaches full slip slowly
             upper *= 2.0
+        from scipy.optimize import brentq  # here, not at import: scipy.optimize costs 0.2-0.6 s
+
         return brentq(residual, 0.0, upper, xtol=1e-16, rtol=1e-14)
 
     def params(self) -> np.ndarray:
@@ -257,11 +258,15 @@ class DiskWheelModel:
             dx = math.pi
             return np.concatenate([[u, u, 0.0, u * dx, 2.0 * u * dx], self._creep_curve])
 
+        surf0 = uniform(0.0)  # the compiled entry points for these argument types, no look-up per call
+        rhs = k.rhs.bind(self.kind, 0.0, y0.copy(), p, surf0, np.empty(n))
+        outputs = k.outputs.bind(self.kind, np.zeros(1), y0[None, :].copy(), p, surf0, k.DW_N_OUTPUTS)
+
         def evaluate(y, u):
             f = np.empty(n)
             surf = uniform(u)
-            k.rhs(self.kind, 0.0, y, p, surf, f)
-            g = k.outputs(self.kind, np.zeros(1), y[None, :], p, surf, k.DW_N_OUTPUTS)[0, :4]
+            rhs(self.kind, 0.0, y, p, surf, f)
+            g = outputs(self.kind, np.zeros(1), y[None, :], p, surf, k.DW_N_OUTPUTS)[0, :4]
             return f, g
 
         a, c = np.zeros((n, n)), np.zeros((4, n))

@@ -1185,6 +1185,24 @@ class ByLiteral:
         entry = self._entries.get(key)
         if entry is not None:
             return entry[0](*args, *entry[1])
+        return self._first_call(key, args)
+
+    def bind(self, *args):
+        """The compiled entry point for arguments like ``args`` (the same constants, arrays of the
+        same dtype, dimensions and layout), for a Python loop that calls it many times: it skips
+        the look-up of :meth:`__call__` (3.9 us a call against 0.6 us). It is called once here
+        with ``args``, so output arrays among them are written. Arguments of other types must
+        not be passed to it: numba does not check them again."""
+        args = tuple(int(a) if i in self.literal else a for i, a in enumerate(args))
+        key = tuple(a if i in self.literal else self._type_key(a) for i, a in enumerate(args))
+        if key not in self._entries:
+            self._first_call(key, args)
+        entry, defaults = self._entries[key]
+        if not defaults:
+            return entry
+        return lambda *given: entry(*given, *defaults)
+
+    def _first_call(self, key, args):
         with warnings.catch_warnings():  # numba's own inliner check, on the disk wheel's deposit
             warnings.simplefilter("ignore", NumbaIRAssumptionWarning)
             result = self.dispatcher(*args)  # compiles, or loads from the cache

@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 from railwear.dynamics import kernels as k
 
@@ -136,6 +135,8 @@ def critical_speed(model, v_min=0.5, v_max=1.0e4, n_scan=400) -> float:
 
 
 def _refine(model, v_lo, v_hi):
+    from scipy.optimize import brentq  # here, not at import: scipy.optimize costs 0.2-0.6 s
+
     return brentq(lambda v: max_real_part(model, v), v_lo, v_hi, xtol=1e-14 * v_hi, rtol=4 * np.finfo(float).eps,
                   maxiter=200)
 
@@ -149,11 +150,12 @@ def numerical_state_matrix(kind, params, n_states, surf=None, step=1e-7) -> np.n
     jac = np.empty((n_states, n_states))
     f_plus, f_minus = np.empty(n_states), np.empty(n_states)
     surf = np.zeros(0) if surf is None else surf
+    rhs = k.rhs.bind(kind, 0.0, np.zeros(n_states), params, surf, f_plus)  # the entry point, no look-up per call
     for j in range(n_states):
         y = np.zeros(n_states)
         y[j] = step
-        k.rhs(kind, 0.0, y, params, surf, f_plus)
+        rhs(kind, 0.0, y, params, surf, f_plus)
         y[j] = -step
-        k.rhs(kind, 0.0, y, params, surf, f_minus)
+        rhs(kind, 0.0, y, params, surf, f_minus)
         jac[:, j] = (f_plus - f_minus) / (2.0 * step)
     return jac

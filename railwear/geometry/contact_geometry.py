@@ -28,7 +28,6 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 from numba import njit
-from scipy.optimize import brentq
 
 from railwear.contact import hertz_contact, kalker_coefficients
 from railwear.contact.multipoint import _semi_wheel
@@ -353,6 +352,8 @@ def gauge_point(rail, depth=0.014):
     if below.size == 0:
         raise ScenarioError(f"rail profile {rail.name!r} has no gauge face {depth / MM:g} mm below its top")
     k = below[-1]
+    from scipy.optimize import brentq  # here, not at import: scipy.optimize costs 0.2-0.6 s
+
     return brentq(lambda s: rail(s) - z[top] - depth, y[k], y[k + 1], xtol=1e-13)
 
 
@@ -718,6 +719,8 @@ def _klingel_orbits(y, dr, y_eq, amplitudes, e0r0):
                                 f"(at most {reach:g} m about y* = {y_eq:g} m)")
         if amp <= flat:  # inside a flat well: no restoring motion of that amplitude
             continue
+        from scipy.optimize import brentq  # here, not at import: scipy.optimize costs 0.2-0.6 s
+
         level = brentq(lambda e: half_width(e) - amp, w_eq, top, xtol=1e-15 * (top - w_eq),
                        rtol=4 * np.finfo(float).eps)
         lo, hi = edges(level)

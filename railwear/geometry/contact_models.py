@@ -31,7 +31,7 @@ from railwear.contact import hertz_contact, kalker_coefficients
 from railwear.contact.constants import creep_coefficients, shear_modulus
 from railwear.contact.hertz import effective_modulus
 from railwear.contact.multipoint import SEMI_FIELDS, hertz_stiffness, share_load
-from railwear.contact.semi_hertz import _APRIME, _EPS, _U, STRIPS
+from railwear.contact.semi_hertz import STRIPS, factor_table
 from railwear.errors import ScenarioError
 
 __all__ = ["CONTACT_MODELS", "point_contacts", "resultant"]
@@ -92,7 +92,7 @@ def point_contacts(model, shifts, yaws, theta, drop, gaps, where, rails, xs, whe
         strips = np.zeros(G.shape + (STRIPS,))
         semi_table(shifts, yaws, theta, drop, np.ascontiguousarray(G), np.ascontiguousarray(ypv), np.ascontiguousarray(cosg),
                     np.ascontiguousarray(A), np.ascontiguousarray(K0), Q, estar, wx, wc, rx, rc, yw0, yr0,
-                    rolling_radius, step, J, _U, _EPS, _APRIME, out, delta, strips)
+                    rolling_radius, step, J, *factor_table(), out, delta, strips)
         if np.any(~np.isfinite(delta)):
             raise ScenarioError("semi-hertzian contact: no approach carries the load (check the profiles)")
         field = {name: out[..., k] for k, name in enumerate(SEMI_FIELDS)}

@@ -18,7 +18,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from railwear.errors import ScenarioError
 
@@ -46,6 +45,8 @@ def flange_parameters(profile, resolution=1e-5) -> FlangeParameters:
     lo = float(profile.y.min())
     if lo > -TAPE_CIRCLE / 2 or float(profile.y.max()) < 0.0:
         raise ScenarioError(f"profile {profile.name!r}: must reach from the flange (y < -35 mm) to the tape circle (y = 0)")
+    from scipy.optimize import brentq  # here, not at import: scipy.optimize costs 0.2-0.6 s
+
     y = np.arange(lo, 0.0, resolution)
     z = profile(y)
     k = int(np.argmax(z))

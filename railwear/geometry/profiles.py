@@ -17,7 +17,6 @@ from importlib import resources
 from pathlib import Path
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from railwear.errors import ScenarioError
 
@@ -51,7 +50,7 @@ class Profile:
     kind: str
     name: str = ""
     cant: float = 0.0
-    _spline: CubicSpline = field(init=False, repr=False, compare=False)
+    _spline: "CubicSpline" = field(init=False, repr=False, compare=False)  # noqa: F821  (scipy's, imported when made)
 
     def __post_init__(self):
         y = np.asarray(self.y, dtype=float)
@@ -68,6 +67,8 @@ class Profile:
         y, z = y[keep], z[keep]
         object.__setattr__(self, "y", y)
         object.__setattr__(self, "z", z)
+        from scipy.interpolate import CubicSpline  # here: 0.2-0.5 s to import, and a run may need no profile
+
         spline = CubicSpline(y, z, bc_type="natural")
         swing = np.max(np.abs(spline(0.5 * (y[1:] + y[:-1])) - 0.5 * (z[1:] + z[:-1])))
         if not swing <= np.ptp(z):

@@ -6,7 +6,6 @@ from railwear.errors import ScenarioError
 
 from railwear.geometry import roundness
 from railwear.measured import read_measured
-from railwear.pde import Cubic, DiskContact, Table
 from railwear.scenario.schema import Scenario
 from railwear.units import GPA, KM, KN, MM, UG, UM, kmh_to_m_s, m_s_to_kmh
 
@@ -15,6 +14,8 @@ DISK_CONTACT_TRACTION = 1e-4  # least demand of the derived h: its load table re
 
 def wear_rate(scenario: Scenario):
     """The ``h`` of the scenario, in SI units (rate in m per unit normed time)."""
+    from railwear.pde import Cubic, DiskContact, Table  # here: the evolution equation's import (rocket-fft) costs 0.2-0.5 s
+
     w = scenario.wear_rate
     if w.form == "cubic":
         return Cubic(w.c0, w.c1, w.c3)

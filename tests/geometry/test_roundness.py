@@ -69,3 +69,25 @@ def test_log_growth_recovers_exponential_rates_and_their_noise():
 def test_bad_orders():
     with pytest.raises(ScenarioError, match="orders"):
         roundness.harmonics(64, [40], [1e-6])
+
+
+def _count_with_scipy(u, prominence=0.1):
+    from scipy.signal import find_peaks
+
+    u = np.asarray(u, float)
+    span = np.ptp(u)
+    if span == 0:
+        return 0
+    peaks, _ = find_peaks(np.concatenate([u, u, u]), prominence=prominence * span)
+    return int(np.count_nonzero((peaks >= u.size) & (peaks < 2 * u.size)))
+
+
+def test_maxima_count_is_scipy_find_peaks():
+    """count_maxima follows find_peaks' rule (flat tops, prominence) without importing scipy.signal."""
+    rng = np.random.default_rng(11)
+    cases = [roundness.random_perturbation(n, 40e-6, 2, top, rng) for n in (64, 128, 512) for top in (8, 30)]
+    cases += [np.round(rng.normal(size=n) * 3) for n in (16, 64, 256) for _ in range(20)]  # plateaus, ties
+    cases += [np.zeros(8), np.array([0.0, 1.0, 1.0, 0.0]), np.array([1.0, 1.0, 0.0, 1.0, 1.0]), np.ones(5)]
+    for u in cases:
+        for prominence in (0.0, 0.1, 0.5):
+            assert roundness.count_maxima(u, prominence) == _count_with_scipy(u, prominence)

@@ -1,0 +1,67 @@
+"""The warm floor of a command: ``railwear run`` (the built-in metro scenario: result.nc, summary,
+four figures, report.html) in a fresh process against the bare import of numpy, scipy, xarray and
+matplotlib, timed in turn in the same run; prints both and the ratio.
+
+    python benchmarks/command.py [--rounds 5]
+
+The first ``railwear run`` fills the numba cache if it is cold and is not counted. Wall time is
+what a user waits for; CPU time (user + system of the child) is printed beside it because on a
+shared machine the wall time moves with the other jobs. The load average is printed too.
+"""
+
+import argparse
+import os
+import resource
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+BARE = [sys.executable, "-c", "import numpy, scipy, xarray, matplotlib"]
+
+
+def railwear_run(directory):
+    return [sys.executable, "-m", "railwear", "run", "-o", directory]
+
+
+def timed(command):
+    """Wall and CPU seconds of one run of ``command`` in a fresh process."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rounds", type=int, default=5)
+    args = parser.parse_args()
+    out = tempfile.mkdtemp(prefix="railwear-command-")
+    try:
+        run = railwear_run(out)
+        timed(run)  # warm the numba cache and the file system
+        timed(BARE)
+        rows = {"railwear run": [], "bare import": []}
+        for _ in range(args.rounds):  # in turn, so both see the same moments of a shared machine
+            rows["railwear run"].append(timed(run))
+            rows["bare import"].append(timed(BARE))
+    finally:
+        shutil.rmtree(out, ignore_errors=True)
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; {args.rounds} rounds, medians "
+          f"(min-max)")
+    for name, samples in rows.items():
+        wall, cpu = zip(*samples)
+        print(f"{name:13s} wall {statistics.median(wall):.2f} s ({min(wall):.2f}-{max(wall):.2f}), "
+              f"CPU {statistics.median(cpu):.2f} s ({min(cpu):.2f}-{max(cpu):.2f})")
+    for k, what in enumerate(("wall", "CPU")):
+        ratios = [a[k] / b[k] for a, b in zip(rows["railwear run"], rows["bare import"])]
+        print(f"ratio railwear run / bare import, {what}: {statistics.median(ratios):.2f} "
+              f"({min(ratios):.2f}-{max(ratios):.2f}, pair by pair; target at most 2)")
+
+
+if __name__ == "__main__":
+    main()
