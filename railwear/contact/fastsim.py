@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 
 from railwear.contact._checks import as_float_array, non_negative, poisson_ratio, positive
-from railwear.contact.kalker import kalker_coefficients
+from railwear.contact.kalker import _kalker_scalar, kalker_coefficients
 from railwear.errors import ScenarioError
 
 __all__ = ["FastsimResult", "FastsimBatchResult", "fastsim", "fastsim_batch", "flexibilities"]
@@ -50,6 +50,16 @@ def flexibilities(a, b, shear_modulus, poisson):
     L1 = 8.0 * a / (3.0 * c11 * shear_modulus)
     L2 = 8.0 * a / (3.0 * c22 * shear_modulus)
     L3 = np.pi * a * np.sqrt(a / b) / (4.0 * c23 * shear_modulus)
+    return L1, L2, L3
+
+
+def _flexibilities_scalar(a, b, shear_modulus, poisson):
+    """:func:`flexibilities` for one contact (floats), the same numbers without numpy's cost on
+    one-element arrays."""
+    c11, c22, c23, _ = _kalker_scalar(a / b, poisson)
+    L1 = 8.0 * a / (3.0 * c11 * shear_modulus)
+    L2 = 8.0 * a / (3.0 * c22 * shear_modulus)
+    L3 = math.pi * a * math.sqrt(a / b) / (4.0 * c23 * shear_modulus)
     return L1, L2, L3
 
 
@@ -299,7 +309,7 @@ def fastsim(a, b, normal_force, xi, eta, phi, mu, shear_modulus, poisson, nx=40,
         raise ScenarioError(f"bound must be 'elliptic' or 'parabolic', got {bound!r}")
     if int(nx) != nx or nx < 1 or int(ny) != ny or ny < 1:
         raise ScenarioError(f"nx and ny must be positive integers, got {nx}, {ny}")
-    L1, L2, L3 = (float(L) for L in flexibilities(a, b, G, nu))
+    L1, L2, L3 = _flexibilities_scalar(a, b, G, nu)
     res, px, py, pd, slip, x, y, cell_area = _fastsim_single(
         a, b, fz, xi, eta, phi, mu, L1, L2, L3, speed, int(nx), int(ny), _BOUNDS[bound] == 1
     )
