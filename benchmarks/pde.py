@@ -582,7 +582,11 @@ def time_command():
         return None
     with tempfile.TemporaryDirectory() as out:
         cmd = [exe, "run", CASE, "-o", out]
-        subprocess.run(cmd, capture_output=True, check=True)  # warm the compilation caches
+        warm = subprocess.run(cmd, capture_output=True, text=True)  # warm the compilation caches
+        if warm.returncode:
+            print(f"skipped: `railwear run {CASE}` failed (exit {warm.returncode}): "
+                  f"{(warm.stderr.strip().splitlines() or ['no message'])[-1]}")
+            return None
         times = []
         for _ in range(3):
             t0 = time.perf_counter()

@@ -323,16 +323,35 @@ def _balance(T, sweeps=3):
     return d
 
 
+_CELL: dict = {}  # the last track and frequencies' spans and waves: a map asks for several loads
+
+
+def _cell(track: Track, omega):
+    """Free spans, sleeper jump ``S`` and its inverse, and the Floquet waves ``(λ, V₀)`` of
+    ``T₀ = S P(L)``, the cell that starts just past a sleeper, for ``track`` at ``omega``. The cell
+    that starts ``d`` past the sleeper, ``T = P(d) S P(L - d) = P(d) T₀ P(d)⁻¹``, has the same
+    ``λ`` and the waves ``P(d) V₀ = λ P(d - L) S⁻¹ V₀``, so they are found once for every load
+    position (and kept for the last track and frequencies)."""
+    key = (track, omega.tobytes())
+    if key not in _CELL:
+        spans = _Spans(system_matrix(track, omega))
+        ks = track.support.stiffness(omega) * np.ones_like(omega)
+        S = _sleeper_jump(track, ks)
+        _CELL.clear()
+        _CELL[key] = (spans, S, _sleeper_jump(track, -ks)) + _waves(S @ spans.at(track.sleeper_spacing))
+    return _CELL[key]
+
+
 def _discrete(track: Track, omega, d_load, x_resp) -> np.ndarray:
     """Discrete supports at spacing L: Floquet waves of the cell that starts at the load; (n_f, n_x)."""
     L = track.sleeper_spacing
     d = load_offset(track, d_load)
-    spans = _Spans(system_matrix(track, omega))
-    S = _sleeper_jump(track, track.support.stiffness(omega) * np.ones_like(omega))
+    spans, S, S_inverse, lam, waves = _cell(track, omega)
     first = spans.at(L - d)  # load to the next sleeper
-    T = spans.at(d) @ S @ first
-    lam, vecs = _waves(T)
-    right, left = vecs[..., :2], vecs[..., 2:]
+    # Each wave carried to the load the way it grows: the left waves on over d, the right waves
+    # (decaying to the right) back over the sleeper and L - d; a wave's scale does not matter.
+    right = spans.at(d - L) @ S_inverse @ waves[..., :2]
+    left = spans.at(d) @ waves[..., 2:]
     a, b = _amplitudes(track, right, left)
     out = np.empty((omega.size, x_resp.size), dtype=complex)
     for j, x in enumerate(x_resp):
