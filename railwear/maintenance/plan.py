@@ -149,10 +149,11 @@ def plan(scenario=None, policies=("metro-interval",), samples=0, seed=None, grow
     total, done = len(wheels) * len(built) * len(growth), 0
     for w, wheel in enumerate(wheels):
         for p, policy in enumerate(built):
+            force = None if policy.triggers.peak_force is None else peak_force_search(wheel.scenario, policy.triggers)
             for g, multiplier in enumerate(growth):
                 if (p, g, w) not in lives:
                     lives[p, g, w] = policy.life(WheelState(base, diameter), lambda d, m=multiplier, r=wheel: r.at(d, m),
-                                                 horizon_km * KM, resolution_km * KM)
+                                                 horizon_km * KM, resolution_km * KM, force)
                     if wanted(checkpoint):
                         checkpoint(PlanCheckpoint(key, dict(lives)))
                 done += 1
@@ -161,6 +162,32 @@ def plan(scenario=None, policies=("metro-interval",), samples=0, seed=None, grow
     return dataset(sc, files, built, growth, lives, speed, load, friction,
                    {"samples": samples, "seed": sc.service.seed if seed is None else seed, "horizon_km": horizon_km,
                     "resolution_km": resolution_km})
+
+
+def peak_force_search(scenario, triggers):
+    """The peak-force trigger of ``triggers`` on ``scenario``'s wheel (its body must run on the
+    time-domain track): ``(state, table, within) -> distance`` (m), where the wheel grown from
+    ``state`` on ``table`` first puts a peak wheel–rail force above ``triggers.peak_force`` at one
+    of its speeds (the scenario's if none), on the vehicle–track case at the state's diameter;
+    ``inf`` if not within ``within`` m (:func:`~railwear.maintenance.detectors.wheel_flags`)."""
+    from dataclasses import replace
+
+    from railwear.maintenance.detectors import WheelTask, wheel_flags
+    from railwear.maintenance.impact import check_body
+
+    check_body(scenario, "the peak-force trigger (trigger.peak_force_kN)")
+    case, track = scenario.body.case(scenario), scenario.track
+    speeds = triggers.force_speeds or (build.one_speed(scenario, "; the peak-force trigger takes one speed"),)
+
+    def search(state, table, within):
+        if within <= 0:
+            return np.inf
+        task = WheelTask(replace(case, diameter=float(state.diameter)), state.u, table, tuple(speeds),
+                         (triggers.peak_force,), float(within), ring_sleepers=track.ring_sleepers,
+                         ring_max_frequency_hz=track.ring_max_frequency_hz)
+        return float(wheel_flags(task).distance[0])
+
+    return search
 
 
 def _fingerprint(scenario, files, growth, samples, seed, horizon_km, resolution_km):
@@ -282,6 +309,9 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
                                {"units": "m", "long_name": "peak-to-peak trigger of the policy (NaN: none)"}),
         "interval": (("policy",), np.array([np.nan if q.triggers.interval is None else q.triggers.interval / KM for q in policies]),
                      {"units": "km", "long_name": "turning interval of the policy (NaN: none)"}),
+        "peak_force_limit": (("policy",), np.array([np.nan if q.triggers.peak_force is None else q.triggers.peak_force
+                                                    for q in policies]),
+                             {"units": "N", "long_name": "peak wheel-rail force trigger of the policy (NaN: none)"}),
         "last_turning_diameter": (("policy",), np.array([q.last_diameter for q in policies]),
                                   {"units": "m", "long_name": "last-turning diameter: scrapped there"}),
         "history_distance": (("policy", "growth", "point"), history["distance"], {"units": "km", "long_name": "distance run, wheel 0"}),

@@ -19,7 +19,7 @@ from railwear.geometry import bands
 from railwear.maintenance.turning import CutRule, Policy, Residual, Triggers, Turning
 from railwear.scenario import parse_toml, read_text, validated
 from railwear.scenario.schema import Count, Name, Text, _Section, _section_of, refuse
-from railwear.units import KM, MM, UM
+from railwear.units import KM, KN, MM, UM, kmh_to_m_s
 
 Level = Annotated[float, Field(ge=-100, le=100)]  # dB re 1 µm: beyond this a typing error
 BandWavelength_mm = Annotated[float, Field(ge=3, le=5000)]  # one-third-octave band centres a wheel holds
@@ -40,7 +40,9 @@ class TriggerSection(_Section):
     (radius deviation), ``order_level_db`` (dB re 1 µm, ``20 lg(A_n / √2 / 1 µm)``: one level for
     every order, or one per order of ``orders``), one-third-octave band levels (EN 15610:
     ``band_limit = "iso3095"`` or ``band_wavelength_mm`` with ``band_level_db``), and
-    ``interval_km`` since the last turning."""
+    ``interval_km`` since the last turning, ``peak_force_kN``: the peak vertical wheel–rail force a
+    wheel-impact-load detector reads, on the time-domain track at ``peak_force_speeds_kmh``
+    (default: the scenario's speed; :mod:`railwear.maintenance.detectors`)."""
 
     peak_to_peak_mm: Annotated[float, Field(gt=0, le=10)] | None = None
     order_level_db: Level | Annotated[list[Level], Field(min_length=1, max_length=MAX_ORDERS)] | None = None
@@ -49,13 +51,18 @@ class TriggerSection(_Section):
     band_wavelength_mm: Annotated[list[BandWavelength_mm], Field(min_length=1, max_length=100)] | None = None
     band_level_db: Annotated[list[Level], Field(min_length=1, max_length=100)] | None = None
     interval_km: Annotated[float, Field(ge=100, le=1e7)] | None = None
+    peak_force_kN: Annotated[float, Field(ge=10, le=2000)] | None = None
+    peak_force_speeds_kmh: Annotated[list[Annotated[float, Field(ge=5, le=500)]],
+                                     Field(min_length=1, max_length=20)] | None = None
 
     @model_validator(mode="after")
     def _consistent(self):
         given = [n for n in type(self).model_fields if getattr(self, n) is not None]
-        if not set(given) - {"orders"}:
+        if not set(given) - {"orders", "peak_force_speeds_kmh"}:
             raise ValueError("give at least one trigger: peak_to_peak_mm, order_level_db, band_limit or "
-                             "band_wavelength_mm, interval_km")
+                             "band_wavelength_mm, interval_km, peak_force_kN")
+        if self.peak_force_speeds_kmh is not None and self.peak_force_kN is None:
+            raise refuse("peak_force_speeds_kmh", "needs peak_force_kN")
         levels = self.order_level_db
         if self.orders is not None:
             if not isinstance(levels, list) or len(levels) != len(self.orders):
@@ -90,7 +97,9 @@ class TriggerSection(_Section):
         elif self.band_wavelength_mm is not None:
             limits.append(forecast.band_limit(bands.limit_spectrum(
                 [w * MM for w in self.band_wavelength_mm], self.band_level_db, name="the policy's band levels")))
-        return Triggers(tuple(limits), None if self.interval_km is None else self.interval_km * KM)
+        return Triggers(tuple(limits), None if self.interval_km is None else self.interval_km * KM,
+                        None if self.peak_force_kN is None else self.peak_force_kN * KN,
+                        tuple(kmh_to_m_s(v) for v in self.peak_force_speeds_kmh or ()))
 
 
 class CutSection(_Section):

@@ -209,11 +209,15 @@ class Turning:
 @dataclass(frozen=True)
 class Triggers:
     """When to turn: ``limits`` (:class:`~railwear.forecast.Limit`: peak to peak, level per order,
-    band levels), reached when the largest excess over them reaches 0 dB, and ``interval`` (m run
-    since the last turning, or None)."""
+    band levels), reached when the largest excess over them reaches 0 dB, ``interval`` (m run
+    since the last turning, or None), and ``peak_force`` (N, or None): the peak vertical
+    wheel–rail force a wheel-impact-load detector would read at any of ``force_speeds`` (m/s;
+    empty: the scenario's speed), found by the life's ``force`` search."""
 
     limits: tuple = ()
     interval: float | None = None
+    peak_force: float | None = None
+    force_speeds: tuple = ()
 
     def excess(self, u, diameter):
         """``(excess, which)`` along the rows of ``u`` (m): the largest level above a limit (dB)
@@ -227,6 +231,10 @@ class Triggers:
     def names(self):
         return [limit.name for limit in self.limits] + (
             [f"interval {self.interval / KM:,.0f} km"] if self.interval is not None else [])
+
+    @property
+    def force_name(self):
+        return f"peak wheel-rail force {self.peak_force / 1e3:g} kN"
 
 
 WORN = "worn to the last-turning diameter"
@@ -277,11 +285,13 @@ class Policy:
     source: str = ""
     description: str = ""
 
-    def advance(self, state, technique, horizon, resolution):
+    def advance(self, state, technique, horizon, resolution, force=None):
         """The :class:`Segment` from ``state`` on ``technique`` (a :class:`RateTable` at
         ``state.diameter``) to the first of: a limit reached (located by bisection between scan
-        points ``resolution`` m apart), the interval, the mean diameter worn to ``D_s``, the
-        ``horizon`` (m since new). A state that is not finite before any of them raises
+        points ``resolution`` m apart), the interval, the peak force (``force(state, technique,
+        within)``: the distance in m at which the grown wheel's peak force passes the trigger,
+        ``inf`` if not within ``within`` m), the mean diameter worn to ``D_s``, the ``horizon``
+        (m since new). A state that is not finite before any of them raises
         :class:`NumericalInstabilityError`."""
         speed, u0, d = technique.speed, state.u, state.diameter
         ends = {HORIZON: max(horizon - state.distance, 0.0)}
@@ -290,6 +300,10 @@ class Policy:
         wear = -technique.mean_rate / speed  # m of radius per m run
         if wear > 0:
             ends[WORN] = max((state.mean_diameter - self.last_diameter) / (2 * wear), 0.0)
+        if self.triggers.peak_force is not None:
+            if force is None:
+                raise ScenarioError(f"policy {self.name}: trigger.peak_force_kN needs the time-domain track (plan)")
+            ends[self.triggers.force_name] = float(force(state, technique, min(ends.values())))
         reason = min(ends, key=lambda k: (ends[k], k != WORN))
         end = ends[reason]
         names = self.triggers.names()
@@ -333,10 +347,11 @@ class Policy:
             return grid[grid < hi], float(hi), int(which[0])
         return grid, None, 0
 
-    def life(self, start, technique_at, horizon, resolution=500 * KM):
+    def life(self, start, technique_at, horizon, resolution=500 * KM, force=None):
         """The :class:`Life` from ``start`` (a :class:`WheelState`): segments on
-        ``technique_at(diameter)`` (a :class:`RateTable`), turning at each trigger, until the
-        wheel is scrapped or the ``horizon`` (m since new) is reached."""
+        ``technique_at(diameter)`` (a :class:`RateTable`), turning at each trigger (``force``:
+        the peak-force search of :meth:`advance`), until the wheel is scrapped or the ``horizon``
+        (m since new) is reached."""
         state, records, starts, history = start, [], [], []
         selected = None
         while True:
@@ -345,7 +360,7 @@ class Policy:
                 selected = technique.selected_order()
             else:
                 records[-1] = replace(records[-1], selected_order=technique.selected_order())
-            segment = self.advance(state, technique, horizon, resolution)
+            segment = self.advance(state, technique, horizon, resolution, force)
             history.append(segment.history)
             reason = segment.reason
             if reason not in (WORN, HORIZON):

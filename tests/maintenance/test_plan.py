@@ -135,3 +135,41 @@ def test_a_killed_plan_resumes_from_its_file_to_the_same_lives(drawn, tmp_path):
     with pytest.raises(ScenarioError, match="resume: the plan checkpoint was written for another plan"):
         plan(METRO, ["metro-condition", "metro-interval"], samples=2, seed=6, growth=(0.5, 2.0), horizon_km=450_000,
              resume=stopped)
+
+
+def test_a_peak_force_trigger_turns_the_wheel_where_the_detector_would_read_it(tmp_path):
+    """A planner's 100 kN threshold on the metro wheel (static 68.8 kN) at 70 km/h: the wheel is
+    turned where the time-domain peak force of its grown shape first passes 100 kN (the detector
+    search's bracket, 2 % of the peak to peak), later than the 0.1 mm peak-to-peak trigger."""
+    from dataclasses import replace
+
+    from railwear.maintenance.impact import DynamicLoad, peak_forces
+    from railwear.maintenance.plan import WheelRates
+
+    policy = tmp_path / "force.toml"
+    policy.write_text('name = "force-100"\nsource = "example"\n[trigger]\npeak_force_kN = 100.0\n'
+                      '[wheel]\nlast_turning_diameter_mm = 770.0\n')
+    ds = plan(METRO, [str(policy), "metro-condition"], growth=(1.0,), horizon_km=300_000)
+    first = ds.isel(growth=0, wheel=0, turning=0)
+    assert list(first.trigger.values) == ["peak wheel-rail force 100 kN", "0.1 mm peak to peak"]
+    at, pp_trigger = first.turning_distance.values
+    assert pp_trigger < at < 300_000
+    table = WheelRates(METRO, re_profiled(METRO).size // 2).at(0.84)
+    grown = table.evolve(re_profiled(METRO), np.array([at * 1e3 / table.speed]))[0]
+    case = METRO.body.case(METRO)
+    load = DynamicLoad(case, grown - grown.mean(), speeds=(table.speed,), wheel="grown")
+    assert peak_forces(load, (table.speed,), load.ring())[0] > 100e3
+    smaller = replace(load, deviation=(grown - grown.mean()) * 0.97)  # 3 % less than at the turning
+    assert peak_forces(smaller, (table.speed,), smaller.ring())[0] < 100e3 * 1.02
+
+
+def test_a_peak_force_trigger_needs_the_time_domain_track(tmp_path):
+    policy = tmp_path / "force.toml"
+    policy.write_text('name = "force"\nsource = "example"\n[trigger]\ninterval_km = 100000.0\npeak_force_speeds_kmh = [70.0]\n'
+                      '[wheel]\nlast_turning_diameter_mm = 770.0\n')
+    with pytest.raises(ScenarioError, match="peak_force_speeds_kmh"):
+        plan(METRO, [str(policy)])
+    policy.write_text('name = "force"\nsource = "example"\n[trigger]\npeak_force_kN = 150.0\n'
+                      '[wheel]\nlast_turning_diameter_mm = 770.0\n')
+    with pytest.raises(ScenarioError, match="body.kind"):
+        plan(load_scenario("linear-dynamics"), [str(policy)], horizon_km=10_000)
