@@ -113,15 +113,22 @@ def eig_waves(T):
 
 
 class eig_path:
-    """Within it, railwear's receptance takes its spans and waves from ``numpy.linalg.eig``."""
+    """Within it, railwear's receptance takes its spans and waves from ``numpy.linalg.eig``, anew
+    for every load position as a user's code (and railwear's before) does: the kept waves of the
+    last track and frequencies are dropped before each call."""
 
     def __enter__(self):
-        self.saved = RECEPTANCE._Spans, RECEPTANCE._waves
-        RECEPTANCE._Spans, RECEPTANCE._waves = EigSpans, eig_waves
-        RECEPTANCE._CELL.clear()  # the spans and waves of the last call are kept: not these
+        self.saved = RECEPTANCE._Spans, RECEPTANCE._waves, RECEPTANCE._cell
+        cell = RECEPTANCE._cell
+
+        def anew(track, omega):
+            RECEPTANCE._CELL.clear()
+            return cell(track, omega)
+
+        RECEPTANCE._Spans, RECEPTANCE._waves, RECEPTANCE._cell = EigSpans, eig_waves, anew
 
     def __exit__(self, *exc):
-        RECEPTANCE._Spans, RECEPTANCE._waves = self.saved
+        RECEPTANCE._Spans, RECEPTANCE._waves, RECEPTANCE._cell = self.saved
         RECEPTANCE._CELL.clear()
 
 
