@@ -36,7 +36,7 @@ from railwear.pde.etdrk4 import OK, ETDCoefficients, advance_compiled, advance_p
 
 TAIL_GROWTH = 1e3  # growth of the top of the spectrum, over its start, that counts as ill-posed
 _FIELDS = ("E", "E2", "Q", "f1", "f2", "f3")  # the ETDRK4 weights kept per row
-CHUNK_ROWS = 8  # rows per call of the compiled loop (measured: 64 speeds of Fig. 11, 8 and 16 alike)
+CHUNK_COPIES = 64  # step counts x rows per call of the compiled loop (see _chunks)
 
 
 @dataclass(frozen=True)
@@ -83,6 +83,23 @@ def _richardson_error(v, v_half, n):
     dev = np.fft.irfft(np.concatenate([np.zeros_like(v[:, :1]), v[:, 1:]], axis=1), n, axis=-1)
     scale = np.maximum(np.sqrt(np.mean(dev**2, axis=-1)), 1e-9)
     return np.sqrt(np.mean(diff**2, axis=-1)) / 15 / scale
+
+
+def _chunks(row_steps, active):
+    """The ``active`` rows sorted by step count and cut into chunks whose distinct counts times
+    rows stay within :data:`CHUNK_COPIES` (the rows the loop's re-gathers copy): 64 rows of one
+    count go in one call, 64 of different counts in 8 calls of 8 (measured on 64 speeds of the
+    Fig. 11 case: a third less time than one call per count, chunks of 8 and 16 alike)."""
+    rows = np.flatnonzero(active)
+    rows = rows[np.argsort(row_steps[rows], kind="stable")]
+    chunks, start, counts = [], 0, 1
+    for i in range(1, rows.size):
+        counts += row_steps[rows[i]] != row_steps[rows[i - 1]]
+        if counts * (i - start + 1) > CHUNK_COPIES:
+            chunks.append(rows[start:i])
+            start, counts = i, 1
+    chunks.append(rows[start:])
+    return chunks
 
 
 def _tail(equation, v):
@@ -277,19 +294,17 @@ class _Loop:
     def _advance(self, v, row_steps, t0, active, stop_time, slot):
         """Advance ``v`` in place over one interval in ``row_steps`` per row; returns the status.
 
-        The compiled loop takes the rows in chunks of at most :data:`CHUNK_ROWS`, sorted by their
-        step counts: it gathers its running rows anew whenever one is done, so one call on a whole
-        batch of different counts would copy the batch once per row (a cost that grows as the
-        batch size squared), while a chunk still shares its transforms."""
+        The compiled loop takes the rows in the chunks of :func:`_chunks`: it gathers its running
+        rows anew whenever one is done, so one call on a whole batch of different step counts
+        would copy the batch once per row (a cost that grows as the batch size squared), while a
+        chunk still shares its transforms."""
         if not self.eq.compiled:
             co = self._weights(row_steps, np.ones_like(active), slot)
             status, _ = advance_python(v, co, lambda w: self.eq.nonlinear(w, self.S), int(row_steps[0]), t0,
                                        active, stop_time, self.u_start, self.depth, self.blowup)
             return status
         co = self._weights(row_steps, active, slot)
-        rows = np.flatnonzero(active)
-        rows = rows[np.argsort(row_steps[rows], kind="stable")]
-        for chunk in np.array_split(rows, max(1, -(-rows.size // CHUNK_ROWS))):
+        for chunk in _chunks(row_steps, active):
             running = np.zeros_like(active)
             running[chunk] = True
             status, _ = advance_compiled(
