@@ -88,18 +88,21 @@ def fe_receptance(track, frequency_hz, n_bays=120, per_bay=8):
 
 
 class EigSpans:
-    """``exp(A x)`` as ``V e^{μx} V⁻¹`` from ``numpy.linalg.eig`` (scipy's ``expm`` where ``|μ| x < 0.1``)."""
+    """``exp(A x)`` as ``V e^{μx} V⁻¹`` from one ``numpy.linalg.eig`` of ``A`` for every length
+    (scipy's ``expm`` where ``|μ| x < 0.1``)."""
 
     def __init__(self, A):
         self.A = A
+        self.mu, self.V = np.linalg.eig(A)
+        self.V_inverse = np.linalg.inv(self.V)
 
     def at(self, x):
         if x == 0.0:
             return np.broadcast_to(np.eye(4, dtype=complex), self.A.shape).copy()
-        mu, V = np.linalg.eig(self.A)
+        mu, V = self.mu, self.V
         short = np.max(np.abs(mu), axis=-1) * abs(x) < 0.1
         P = np.empty(self.A.shape, dtype=complex)
-        P[~short] = V[~short] @ (np.exp(mu[~short] * x)[..., None] * np.linalg.inv(V[~short]))
+        P[~short] = V[~short] @ (np.exp(mu[~short] * x)[..., None] * self.V_inverse[~short])
         if np.any(short):
             P[short] = expm(self.A[short] * x)
         return P
@@ -115,7 +118,8 @@ def eig_waves(T):
 class eig_path:
     """Within it, railwear's receptance takes its spans and waves from ``numpy.linalg.eig``, anew
     for every load position as a user's code (and railwear's before) does: the kept waves of the
-    last track and frequencies are dropped before each call."""
+    last track and frequencies are dropped before each call. Per load position, one ``eig`` of
+    the span matrix and one of the cell matrix (railwear's before took two of the span matrix)."""
 
     def __enter__(self):
         self.saved = RECEPTANCE._Spans, RECEPTANCE._waves, RECEPTANCE._cell

@@ -347,7 +347,7 @@ def _discrete(track: Track, omega, d_load, x_resp) -> np.ndarray:
     L = track.sleeper_spacing
     d = load_offset(track, d_load)
     spans, S, S_inverse, lam, waves = _cell(track, omega)
-    first = spans.at(L - d)  # load to the next sleeper
+    first = None  # the span from the load to the next sleeper, where a response lies past it
     # Each wave carried to the load the way it grows: the left waves on over d, the right waves
     # (decaying to the right) back over the sleeper and L - d; a wave's scale does not matter.
     right = spans.at(d - L) @ S_inverse @ waves[..., :2]
@@ -365,6 +365,7 @@ def _discrete(track: Track, omega, d_load, x_resp) -> np.ndarray:
         if delta <= L - d:
             C = spans.at(delta)
         else:
+            first = spans.at(L - d) if first is None else first
             C = spans.at(delta - (L - d)) @ S @ first
         out[:, j] = np.einsum("fj,fj->f", C[:, 0, :], start)
     return out
