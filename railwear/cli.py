@@ -705,6 +705,7 @@ def plan_policies(
     diameter; DIR/plan.nc, plan.txt, plan.csv, turnings.csv, plan.png."""
     from railwear.checkpoints import Periodic
     from railwear.maintenance import outputs
+    from railwear.maintenance import plan as planning
     from railwear.maintenance.plan import plan
 
     _option(horizon_km, "--horizon-km", 1e3, 1e8)
@@ -714,13 +715,13 @@ def plan_policies(
         _fail("--policy: give at least one policy file or built-in name (metro-interval, metro-condition, metro-noise)", 2)
     multipliers = _parse_range(growth, "--growth")
     try:
-        path = _output(output) / outputs.CHECKPOINT
+        path = _output(output) / planning.CHECKPOINT
         if resume and not path.is_file():
             _fail(f"--resume: no plan checkpoint in {output} (expected {path.name})", 2)
-        stopped = outputs.read_checkpoint(path) if resume else None
+        stopped = planning.read_checkpoint(path) if resume else None
         if not resume:
             path.unlink(missing_ok=True)  # an earlier run's: only the newest resumes
-        save = Periodic(lambda state: outputs.write_checkpoint(state, path), checkpoint_every)
+        save = Periodic(lambda state: planning.write_checkpoint(state, path), checkpoint_every)
         with _Warnings(), _Progress("railwear plan") as progress:
             ds = plan(_scenario(scenario, sets), policy, samples, seed, multipliers, horizon_km, progress=progress,
                       checkpoint=save, resume=stopped)
@@ -803,10 +804,8 @@ def fleet_forecast(
     workers: Annotated[Optional[int], typer.Option(help="local worker processes (default: none, this process)")] = None,
     scheduler: Annotated[Optional[str], typer.Option(help="Dask scheduler address, tcp://HOST:PORT")] = None,
     scheduler_file: Annotated[Optional[Path], typer.Option(help="Dask scheduler file")] = None,
-    load_speeds: Annotated[Optional[str], typer.Option(help="speeds in km/h (A:B:STEP or v1,v2,...): the peak "
-                                                            "wheel-rail force of each wheel now and when its growth "
-                                                            "passes each detector threshold (vehicle_track body; "
-                                                            "time-domain runs, about a second per wheel and speed)")] = None,
+    load_speeds: Annotated[Optional[str], typer.Option(help="speeds in km/h (A:B:STEP or v1,v2,...): each wheel's "
+                                                            "peak force now and when it passes each detector threshold")] = None,
     load_threshold_kn: Annotated[list[float], typer.Option(help="a detector threshold of your own (kN) besides the "
                                                                 "published ones; repeat for more")] = [],
     output: Annotated[Path, typer.Option("-o", "--output")] = Path("railwear-fleet"),

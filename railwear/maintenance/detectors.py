@@ -7,7 +7,7 @@ For one wheel (its measured line ``u0`` on the grid, its :class:`RateTable` at i
   :mod:`railwear.maintenance.impact` (:func:`~railwear.maintenance.impact.peak_forces`; the wheel
   of the vehicle–track case at the wheel's own diameter);
 - **when**: for each detector threshold ``T`` (ascending), the least distance ``s`` at which the
-  grown shape ``u(s)`` (the fleet's exact Fourier evolution, :func:`~railwear.maintenance.fleet.evolve_batch`,
+  grown shape ``u(s)`` (the fleet's exact Fourier evolution, :func:`~railwear.maintenance.turning.evolve_batch`,
   at growth 1) puts a peak above ``T`` at any of the speeds. Found by bisection on ``s``, each
   midpoint taken where the shape's peak to peak is the geometric mean of the bracket's, until the
   peak to peak across the bracket differs by less than ``tolerance`` (or by 1 km of distance).
@@ -74,7 +74,7 @@ class _Search:
     """The time-domain peaks of one wheel's grown shapes, kept per distance (NaN: a speed not run)."""
 
     def __init__(self, task):
-        from railwear.maintenance.fleet import evolve_batch
+        from railwear.maintenance.turning import evolve_batch
         from railwear.maintenance.impact import DynamicLoad
 
         self.task = task

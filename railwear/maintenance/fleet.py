@@ -30,6 +30,7 @@ from railwear.errors import MeasuredFileError, OptionError
 from railwear.geometry import roundness
 from railwear.longterm.spectra import UNDEFINED
 from railwear.maintenance.detectors import flag_batch
+from railwear.maintenance.turning import evolve_batch
 from railwear.maintenance.fleet_input import EXAMPLE, read_fleet
 from railwear.maintenance.plan import GROWTH, WheelRates, _checked_growth, _policies, re_profiled
 from railwear.maintenance.turning import BELOW, WORN, RateTable
@@ -79,18 +80,6 @@ def scan_grid(end, resolution, fraction=STEP_FRACTION):
         steps = int(np.ceil(np.log(end / knee) / np.log1p(fraction)))
         grid = np.append(linear, knee * (1 + fraction) ** np.arange(steps + 1))
     return np.append(grid[grid < end], end)
-
-
-def evolve_batch(spectra, rates, slope, points, s):
-    """:meth:`~railwear.longterm.fourier.Harmonics.evolve` of many wheels at once: ``u`` (m) of
-    shape ``s.shape + (points,)`` at the distances ``s`` (m, one row per wheel) from the
-    ``spectra`` (``rfft`` of each wheel's ``u0``) under ``rates`` (``λ_n / V``, 1/m, orders 1 ..
-    ``points / 2``, a row per wheel) and the mean ``slope`` (``ṙ / V``, m per m run)."""
-    out = np.empty(s.shape + (spectra.shape[-1],), complex)
-    out[..., 0] = spectra[:, None, 0] + points * slope[:, None] * s
-    with np.errstate(over="ignore", invalid="ignore"):  # an overflowed polygon has passed every limit
-        out[..., 1:] = spectra[:, None, 1:] * np.exp(s[..., None] * rates[:, None, :])
-        return np.fft.irfft(out, points, axis=-1)
 
 
 def _reached(limit, u, diameters):

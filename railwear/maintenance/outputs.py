@@ -10,33 +10,6 @@ from railwear import results
 from railwear.units import MM
 
 TEXT, TABLE, TURNINGS, FIGURE, HTML = "plan.txt", "plan.csv", "turnings.csv", "plan.png", "plan.html"
-CHECKPOINT = "plan-checkpoint.npz"
-
-
-def write_checkpoint(checkpoint, path):
-    """Save a :class:`~railwear.maintenance.plan.PlanCheckpoint` (``.npz``, no pickles), atomically."""
-    def write(tmp):
-        with open(tmp, "wb") as f:
-            np.savez(f, **checkpoint.plain())
-
-    return results._atomic(path, write)
-
-
-def read_checkpoint(path):
-    """The :class:`~railwear.maintenance.plan.PlanCheckpoint` in ``path``; a file cut short or of
-    another kind is refused in one line."""
-    import zipfile
-
-    from railwear.errors import CheckpointError
-    from railwear.maintenance.plan import PlanCheckpoint
-
-    try:
-        with np.load(results._readable(path, "plan checkpoint"), allow_pickle=False) as data:
-            return PlanCheckpoint.from_plain({k: data[k] for k in data.files})
-    except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile) as e:
-        raise CheckpointError(f"plan checkpoint {path}: cannot be read ({type(e).__name__}); run without --resume") from None
-
-
 def _km(x):
     return f"{x:,.0f}" if np.isfinite(x) else "not scrapped"
 

@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from railwear.checkpoints import wanted
+from railwear.results import _atomic, _readable
 from railwear.errors import OptionError, ScenarioError
 from railwear.longterm.spectra import UNDEFINED
 from railwear.maintenance.policy import load_policy
@@ -336,3 +337,29 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
         "growth": ("growth", np.array(growth), {"units": "1", "long_name": "growth multiplier on the polygon rates"}),
         "wheel": ("wheel", np.arange(n_w), {"long_name": "wheel 0: the scenario's conditions; 1..N drawn from [service]"}),
         "turning": ("turning", np.arange(1, k_max + 1), {"long_name": "turning number"})}, attrs=attrs)
+
+
+CHECKPOINT = "plan-checkpoint.npz"
+
+
+def write_checkpoint(checkpoint, path):
+    """Save a :class:`~railwear.maintenance.plan.PlanCheckpoint` (``.npz``, no pickles), atomically."""
+    def write(tmp):
+        with open(tmp, "wb") as f:
+            np.savez(f, **checkpoint.plain())
+
+    return _atomic(path, write)
+
+
+def read_checkpoint(path):
+    """The :class:`~railwear.maintenance.plan.PlanCheckpoint` in ``path``; a file cut short or of
+    another kind is refused in one line."""
+    import zipfile
+
+    from railwear.errors import CheckpointError
+
+    try:
+        with np.load(_readable(path, "plan checkpoint"), allow_pickle=False) as data:
+            return PlanCheckpoint.from_plain({k: data[k] for k in data.files})
+    except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile) as e:
+        raise CheckpointError(f"plan checkpoint {path}: cannot be read ({type(e).__name__}); run without --resume") from None

@@ -373,3 +373,15 @@ class Policy:
                 reason = BELOW
             joined = tuple(np.concatenate([h[i] for h in history]) for i in range(3))
             return Life(tuple(records), tuple(starts), segment.state, reason, selected, joined)
+
+
+def evolve_batch(spectra, rates, slope, points, s):
+    """:meth:`~railwear.longterm.fourier.Harmonics.evolve` of many wheels at once: ``u`` (m) of
+    shape ``s.shape + (points,)`` at the distances ``s`` (m, one row per wheel) from the
+    ``spectra`` (``rfft`` of each wheel's ``u0``) under ``rates`` (``λ_n / V``, 1/m, orders 1 ..
+    ``points / 2``, a row per wheel) and the mean ``slope`` (``ṙ / V``, m per m run)."""
+    out = np.empty(s.shape + (spectra.shape[-1],), complex)
+    out[..., 0] = spectra[:, None, 0] + points * slope[:, None] * s
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflowed polygon has passed every limit
+        out[..., 1:] = spectra[:, None, 1:] * np.exp(s[..., None] * rates[:, None, :])
+        return np.fft.irfft(out, points, axis=-1)

@@ -10,6 +10,7 @@ import xarray as xr
 
 from railwear.errors import OptionError, ScenarioError
 from railwear.maintenance import outputs
+from railwear.maintenance import plan as planning
 from railwear.maintenance.plan import plan, re_profiled
 from railwear.results import read_netcdf
 from railwear.scenario import load_scenario
@@ -127,8 +128,8 @@ def test_a_killed_plan_resumes_from_its_file_to_the_same_lives(drawn, tmp_path):
         plan(METRO, ["metro-condition", "metro-interval"], samples=2, seed=5, growth=(0.5, 2.0), horizon_km=450_000,
              checkpoint=killed_after(3, saved))
     assert len(saved[-1].lives) == 3
-    outputs.write_checkpoint(saved[-1], tmp_path / outputs.CHECKPOINT)
-    stopped = outputs.read_checkpoint(tmp_path / outputs.CHECKPOINT)
+    planning.write_checkpoint(saved[-1], tmp_path / planning.CHECKPOINT)
+    stopped = planning.read_checkpoint(tmp_path / planning.CHECKPOINT)
     resumed = plan(METRO, ["metro-condition", "metro-interval"], samples=2, seed=5, growth=(0.5, 2.0),
                    horizon_km=450_000, resume=stopped)
     xr.testing.assert_identical(drawn, resumed)
