@@ -216,9 +216,22 @@ def summary(ds: xr.Dataset):
         polygon, notes = _polygon(d, entry, life)
         entry.update(polygon)
         why.update(notes)
+        entry.update(_wheels(d, entry["dominant_order"]))
         out.append(_defined(entry, why))
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
             "railwear_version": ds.attrs.get("railwear_version", ""), **_demand(ds), **_scope(ds), "runs": out}
+
+
+def _wheels(d, n):
+    """Several wheels on one rail: their positions (m) and the combination in which order ``n``
+    grows on them, amplitudes relative to the largest and phases (degrees) against the first."""
+    if "combination_phase" not in d or not n:
+        return {}
+    at = d.sel(order=n)
+    return {"wheel_positions_m": [float(x) for x in d.wheel_position.values],
+            "combination": {"order": int(n), "amplitudes": [round(float(a), 4) for a in at.combination_amplitude.values],
+                            "phases_deg": [180 - (180 - round(float(np.degrees(p)), 2)) % 360  # in (-180, 180]
+                                           for p in at.combination_phase.values]}}
 
 
 def _scope(ds):
@@ -417,6 +430,11 @@ def run_lines(r):
         else:
             lines.append(f"order-{r['dominant_order']} polygon: wavelength {r['wavelength_mm']:.0f} mm on the tread, "
                          f"passing at {r['passing_frequency_hz']:.1f} Hz{growth}")
+    if "combination" in r:
+        c = r["combination"]
+        lines.append(f"wheels at {', '.join(f'{x:g}' for x in r['wheel_positions_m'])} m on one rail: order {c['order']} "
+                     f"grows with their polygons at phases {', '.join(f'{p:.0f}' for p in c['phases_deg'])} deg, "
+                     f"amplitudes {', '.join(f'{a:.2f}' for a in c['amplitudes'])}")
     if "peak_to_peak_limit_mm" in r:
         reached = (f"reached after {r['limit_distance_km']:,.0f} km" if r["limit_distance_km"] is not None
                    else f"not reached in {r['distance_km']:,.0f} km")

@@ -29,16 +29,19 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+import xarray as xr
 
 from railwear.contact import contact_constants, hertz_contact
 from railwear.contact.transient import TransientContact
 from railwear.dynamics import DiskWheelModel
 from railwear.errors import ScenarioError
-from railwear.longterm.fourier import Fourier, contact_filter, law_terms, stability_map
+from railwear.longterm.fourier import Fourier, Harmonics, contact_filter, law_terms, stability_map
 from railwear.track import Support, Track, load_offset, rail, receptance, support_set
+from railwear.units import KM
 
 __all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "growth_parts", "METRO",
-           "HIGH_SPEED", "HIGH_SPEED_TRACK", "WheelsOnRail", "bay_offsets", "p2_frequency", "coupled_resonance"]
+           "HIGH_SPEED", "HIGH_SPEED_TRACK", "WheelsOnRail", "WheelsFourier", "growing_combinations",
+           "wheels_growth_map", "bay_offsets", "p2_frequency", "coupled_resonance"]
 
 GRAVITY = 9.81  # m/s²
 _RAIL_STATE = 6  # z_r in the disk wheel's state vector
@@ -534,9 +537,10 @@ class WheelsOnRail:
                 out[i, :, :, k] = receptance(track, f, float(load), response=at)
         return out
 
-    def transfer_matrix(self, angular_frequency, output="frictional_power") -> np.ndarray:
+    def transfer_matrix(self, angular_frequency, output="frictional_power", rail=None) -> np.ndarray:
         """Bay-averaged ``Y(ω)`` from the wheels' ``ū`` to their ``output`` (one of
-        ``LINEAR_OUTPUTS``), ``(len(ω), wheels, wheels)``, complex."""
+        ``LINEAR_OUTPUTS``), ``(len(ω), wheels, wheels)``, complex; ``rail`` a :meth:`rail_matrix`
+        at these ``ω`` already evaluated (a map evaluates it once for every speed)."""
         m = self.model
         if output not in m.LINEAR_OUTPUTS:
             raise ScenarioError(f"output: must be one of {m.LINEAR_OUTPUTS}, got {output!r}")
@@ -544,24 +548,142 @@ class WheelsOnRail:
             raise ScenarioError("contact: several wheels on one rail take the steady contact for now")
         row, normal = m.LINEAR_OUTPUTS.index(output), m.LINEAR_OUTPUTS.index("normal_force")
         gu, gr = m.wheel_terms(angular_frequency)
-        A = self.rail_matrix(angular_frequency)
+        A = self.rail_matrix(angular_frequency) if rail is None else rail
         eye = np.eye(self._x.size)
         A = A + m.wheel_mode_receptance(angular_frequency)[None, :, None, None] * eye
         N = np.linalg.solve(eye + gr[:, normal, None, None] * A, gu[:, normal, None, None] * eye)
         Y = gu[:, row, None, None] * eye - gr[:, row, None, None] * (A @ N)
         return np.mean(Y, axis=0)
 
+    def frequencies(self, orders):
+        """``n Ω`` [rad/s] of polygon ``orders`` on the model's wheel (Ω under its steady creepage)."""
+        m = self.model
+        return np.atleast_1d(np.asarray(orders, float)) * m.speed * (1 + m.steady_creepage()) / m.radius
+
+    def rate_matrix(self, orders, law, band_width, rail=None):
+        """``M_n = -c F_n² H_D(nΩ)`` [1/s], ``(orders, wheels, wheels)``: a harmonic of order ``n``
+        on every wheel evolves as ``dû/dt = M_n û`` (the wear law's driver, :func:`law_terms`);
+        ``rail`` a :meth:`rail_matrix` at :meth:`frequencies` of these orders."""
+        m = self.model
+        n = np.atleast_1d(np.asarray(orders, float))
+        if np.any(n < 1):
+            raise ScenarioError("orders must be >= 1")
+        lin, terms = law_terms(m, law, band_width)
+        c = lin.coefficient / (2 * np.pi * m.radius * band_width)
+        omega = self.frequencies(n)
+        A = self.rail_matrix(omega) if rail is None else rail
+        H = sum(weight * self.transfer_matrix(omega, output, A) for output, weight in terms.items())
+        return -c * (contact_filter(n, m.patch_half_length / m.radius) ** 2)[:, None, None] * H
+
     def rates(self, orders, law, band_width):
         """``(λ, modes)``: for each polygon order the growth rates ``λ`` (1/s, complex,
         ``(orders, wheels)``, fastest first) and the combinations ``modes`` (``(orders, wheels,
         wheels)``, column ``i`` the wheels' complex amplitudes growing at ``λ[:, i]``, unit norm)
         of the wear law's driver (:func:`~railwear.longterm.fourier.law_terms`)."""
-        m = self.model
-        n = np.atleast_1d(np.asarray(orders, float))
-        lin, terms = law_terms(m, law, band_width)
-        c = lin.coefficient / (2 * np.pi * m.radius * band_width)
-        omega = n * m.speed * (1 + m.steady_creepage()) / m.radius
-        H = sum(weight * self.transfer_matrix(omega, output) for output, weight in terms.items())
-        lam, vec = np.linalg.eig(-c * (contact_filter(n, m.patch_half_length / m.radius) ** 2)[:, None, None] * H)
-        order = np.argsort(-lam.real, axis=-1)
-        return np.take_along_axis(lam, order, -1), np.take_along_axis(vec, order[:, None, :], -1)
+        return growing_combinations(self.rate_matrix(orders, law, band_width))
+
+
+def growing_combinations(M):
+    """Eigen-rates and combinations of rate matrices ``M`` (``(..., wheels, wheels)``, 1/s):
+    ``(λ, modes)`` sorted by ``Re λ``, fastest first, columns of ``modes`` of unit norm."""
+    lam, vec = np.linalg.eig(M)
+    order = np.argsort(-lam.real, axis=-1)
+    return np.take_along_axis(lam, order, -1), np.take_along_axis(vec, order[..., None, :], -1)
+
+
+@dataclass(frozen=True, eq=False)
+class WheelsFourier(Harmonics):
+    """The Fourier technique for identical wheels on one rail: ``parts`` (one :class:`WheelsOnRail`
+    per segment of a duty cycle, the same wheels at its speed and demand) run the ``shares`` of the
+    distance under ``law`` with its wear band ``band_width`` [m]. Per metre each order's matrix is
+    the distance-weighted mean ``M̄_n = V̄ Σ p_k M_n^k / V_k`` (``V̄ = 1 / Σ p_k / V_k``, as
+    :class:`~railwear.longterm.fourier.FourierCycle`), and the order's rate is the fastest
+    eigenvalue of ``M̄_n``: ``u`` is a wheel's radius deviation when each order's polygons on the
+    wheels lie in that growing combination (any other start ends in it, the others falling behind).
+    One wheel is :class:`Fourier` itself to round-off."""
+
+    parts: tuple
+    law: object
+    band_width: float
+    shares: tuple = (1.0,)
+
+    def __post_init__(self):
+        if not self.parts or len(self.parts) != len(self.shares):
+            raise ScenarioError("shares: one share of the distance per part")
+        if abs(sum(self.shares) - 1) > 1e-9 or min(self.shares) <= 0:
+            raise ScenarioError("shares: must be > 0 and sum to 1")
+        if len({tuple(p.positions) for p in self.parts}) != 1:
+            raise ScenarioError("positions: every part carries the same wheels")
+        singles = tuple(Fourier.disk_wheel(p.model, self.law, self.band_width) for p in self.parts)
+        object.__setattr__(self, "_singles", singles)
+
+    @property
+    def speed(self):
+        return 1.0 / sum(p / f.speed for p, f in zip(self.shares, self._singles))
+
+    @property
+    def radius(self):
+        return self._singles[0].radius
+
+    @property
+    def positions(self):
+        """The wheels' distances along the rail from the first [m]."""
+        return tuple(float(x) for x in self.parts[0].positions)
+
+    @property
+    def mean_rate(self):
+        """Rate of the mean radius [m/s] (every wheel's: the steady driver does not couple them)."""
+        return self.speed * sum(p / f.speed * f.mean_rate for p, f in zip(self.shares, self._singles))
+
+    def rate_matrix(self, orders):
+        """``M̄_n`` [1/s at the mean speed], ``(orders, wheels, wheels)``."""
+        return self.speed * sum(p / f.speed * w.rate_matrix(orders, self.law, self.band_width)
+                                for p, f, w in zip(self.shares, self._singles, self.parts))
+
+    def combinations(self, orders):
+        """``(λ, modes)`` of :func:`growing_combinations` on :meth:`rate_matrix`."""
+        return growing_combinations(self.rate_matrix(orders))
+
+    def rates(self, orders):
+        """The fastest eigen-rate of each order [1/s, complex]."""
+        return self.combinations(orders)[0][:, 0]
+
+    def run(self, u0, duration, n_save=101, depth_limit=None, peak_to_peak_limit=None):
+        """:meth:`Harmonics.run`, with each order's growing combination over the wheels:
+        ``combination_amplitude`` (relative to the largest) and ``combination_phase`` (rad,
+        against the first wheel) on ``(order, wheel)``."""
+        ds = super().run(u0, duration, n_save, depth_limit, peak_to_peak_limit)
+        _, modes = self.combinations(ds.order.values)
+        v = modes[:, :, 0]
+        amplitude = np.abs(v) / np.abs(v).max(axis=1, keepdims=True)
+        phase = np.angle(v * np.conj(v[:, :1]))
+        ds = ds.assign_coords(wheel_position=("wheel", np.asarray(self.positions),
+                                              {"units": "m", "long_name": "wheel's distance along the rail from the first"}))
+        ds["combination_amplitude"] = (("order", "wheel"), amplitude,
+                                       {"units": "1", "long_name": "amplitude of the wheel's polygon in the growing "
+                                                                   "combination, relative to the largest"})
+        ds["combination_phase"] = (("order", "wheel"), phase,
+                                   {"units": "rad", "long_name": "phase of the wheel's polygon in the growing "
+                                                                 "combination, against the first wheel"})
+        return ds
+
+
+def wheels_growth_map(case, positions, speeds, orders, law, bay_positions=8):
+    """The fastest combination's growth rate [1/km] of ``case``'s wheels at ``positions`` (m along
+    the rail) over ``speeds`` (m/s) × ``orders``, as :func:`growth_map` gives the single wheel's,
+    the rail matrix evaluated once for every speed's frequencies ``n Ω``."""
+    speeds = np.atleast_1d(np.asarray(speeds, float))
+    n = np.asarray(np.atleast_1d(orders), float)
+    wheels = [WheelsOnRail(VehicleTrackModel(case.wheel(v), case.track, bay_positions, case.wheel_modes), positions)
+              for v in speeds]
+    omegas = [w.frequencies(n) for w in wheels]
+    A = wheels[0].rail_matrix(np.concatenate(omegas))
+    rate = np.array([growing_combinations(w.rate_matrix(n, law, case.band_width, a))[0][:, 0].real / v * KM
+                     for w, v, a in zip(wheels, speeds, np.split(A, len(speeds), axis=1))])
+    return xr.Dataset(
+        {"growth_rate": (("speed", "order"), rate,
+                         {"units": "km-1", "long_name": "growth rate per kilometre run, fastest combination of the wheels"})},
+        coords={"speed": ("speed", speeds, {"units": "m s-1", "long_name": "vehicle speed"}),
+                "order": ("order", n.astype(int), {"units": "1", "long_name": "polygon order"})},
+        attrs={"strategy": "Fourier technique", "driver": "law", "wheel_positions_m": list(map(float, positions))},
+    )

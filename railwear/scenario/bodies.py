@@ -24,6 +24,7 @@ def _build():
 
 Revolutions = Annotated[int, Field(ge=0, le=100000)]
 Samples = Annotated[int, Field(ge=2, le=100000)]  # Monte Carlo draws per frozen-geometry step: 2 for a variance
+MAX_WHEELS = 8  # wheels on one rail: the four of a car, or two cars' facing bogies
 
 
 class RollingWheel(BodySection):
@@ -119,6 +120,10 @@ class VehicleTrackSection(RollingWheel):
     wheel_mode_frequencies_hz: Annotated[list[Annotated[float, Field(ge=1, le=1e4)]], Field(max_length=100)] = []
     wheel_mode_masses_kg: Annotated[list[Annotated[float, Field(ge=1, le=1e5)]], Field(max_length=100)] = []
     wheel_mode_damping_ratios: Annotated[list[Annotated[float, Field(ge=0, le=1)]], Field(max_length=100)] = []
+    # the wheels on this rail, m from the first (0, 2.5: a bogie); a car is 4, a bogie pair 20 m apart
+    # couples no more (docs/vehicle_track.md, Several wheels on one rail); None: one wheel
+    wheel_positions_m: Annotated[list[Annotated[float, Field(ge=0, le=100, allow_inf_nan=False)]],
+                                 Field(min_length=1, max_length=MAX_WHEELS)] | None = None
 
     sections: ClassVar[tuple] = ("track",)
     label: ClassVar[str] = "wheel on the discrete track"
@@ -162,6 +167,9 @@ class VehicleTrackSection(RollingWheel):
 
     @model_validator(mode="after")
     def _modes(self):
+        x = self.wheel_positions_m
+        if x is not None and (x[0] != 0 or any(b <= a for a, b in zip(x, x[1:]))):
+            raise refuse("wheel_positions_m", f"the wheels' distances from the first (m): 0, then increasing, got {x}")
         modes = len(self.wheel_mode_frequencies_hz)
         for name in ("wheel_mode_masses_kg", "wheel_mode_damping_ratios"):
             if len(getattr(self, name)) != modes:
@@ -191,12 +199,31 @@ class VehicleTrackSection(RollingWheel):
         from railwear.longterm.vehicle_track_body import VehicleTrackBody, ring_for
 
         service, case, t = _build().service_speeds(scenario), self.case(scenario), scenario.track
+        self.one_wheel("the time-domain vehicle-track body")
         if case.wheel_modes:
             raise ScenarioError("body.wheel_mode_frequencies_hz: the time-domain vehicle-track body has no flexible "
                                 "wheelset modes; use the fourier or multiplier strategy")
         return VehicleTrackBody(case.wheel(service.mean if speed is None else speed), _build().wear_law(scenario),
                                 case.band_width, _build().life_distance(scenario), service, **self.settings(),
                                 ring=ring_for(case.track, t.ring_sleepers, t.ring_max_frequency_hz))
+
+    @property
+    def several_wheels(self) -> bool:
+        """More than one wheel on the rail (``wheel_positions_m``)."""
+        return self.wheel_positions_m is not None and len(self.wheel_positions_m) > 1
+
+    def one_wheel(self, what):
+        """Refuse several wheels, naming the field, for ``what`` (a model of one wheel)."""
+        if self.several_wheels:
+            raise ScenarioError(f"body.wheel_positions_m: {what} carries one wheel; several wheels on one rail run "
+                                "with the Fourier technique (strategy fourier, or multiplier with local = \"none\")")
+
+    def wheels(self, scenario, speed):
+        """The :class:`~railwear.longterm.vehicle_track.WheelsOnRail` of ``wheel_positions_m`` at
+        ``speed`` (m/s) on :meth:`linear_model`'s wheel and track."""
+        from railwear.longterm.vehicle_track import WheelsOnRail
+
+        return WheelsOnRail(self.linear_model(scenario, speed)[0], tuple(self.wheel_positions_m or (0.0,)))
 
     def linear_model(self, scenario, speed):
         """The wheel closed through the rail receptance, averaged over ``track.bay_positions``."""
@@ -207,7 +234,13 @@ class VehicleTrackSection(RollingWheel):
                                  case.wheel_modes), case.band_width
 
     def growth_map(self, scenario, speeds, orders):
-        """The Fourier growth map with the rail receptance evaluated once per bay offset."""
+        """The Fourier growth map with the rail receptance evaluated once per bay offset; with
+        several wheels, the fastest combination's (:func:`~railwear.longterm.vehicle_track.wheels_growth_map`)."""
+        if self.several_wheels:
+            from railwear.longterm.vehicle_track import wheels_growth_map
+
+            return wheels_growth_map(self.case(scenario), self.wheel_positions_m, speeds, orders,
+                                     _build().wear_law(scenario), scenario.track.bay_positions)
         return self.case(scenario).growth_map(speeds, orders, _build().wear_law(scenario), scenario.track.bay_positions)
 
 

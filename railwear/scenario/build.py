@@ -152,15 +152,20 @@ def fourier_technique(scenario: Scenario):
     from railwear.longterm.fourier import Fourier, FourierCycle
 
     duty, law = scenario.operation.duty(), wear_law(scenario)
+    segments = ([(scenario, one_speed(scenario))] if duty is None else
+                [(at_demand(scenario, s.traction_coefficient), s.speed) for s in duty.segments])
+    shares = (1.0,) if duty is None else duty.shares
+    if getattr(scenario.body, "several_wheels", False):
+        from railwear.longterm.vehicle_track import WheelsFourier
+
+        return WheelsFourier(tuple(sc.body.wheels(sc, v) for sc, v in segments), law, band_width(scenario),
+                             tuple(float(p) for p in shares))
 
     def at(sc, speed):
         model, band = linear_model(sc, speed)
         return Fourier.disk_wheel(model, law, band)
 
-    if duty is None:
-        return at(scenario, one_speed(scenario))
-    parts = [at(at_demand(scenario, s.traction_coefficient), s.speed) for s in duty.segments]
-    return FourierCycle.of(parts, duty.shares)
+    return FourierCycle.of([at(sc, v) for sc, v in segments], shares)
 
 
 @builds("fourier")
@@ -196,6 +201,8 @@ def multiplier(scenario: Scenario):
                "options": {"n_save": solver.n_save, "dealias": solver.dealias, "dt": solver.dt}}
     if st.local == "none":
         return Multiplier.from_fourier(fourier_technique(scenario), life_distance(scenario), **options)
+    if getattr(scenario.body, "several_wheels", False):
+        scenario.body.one_wheel('the multiplier law with a local form (strategy.local)')
     model, band = linear_model(scenario, one_speed(scenario))
     return Multiplier.from_model(model, wear_law(scenario), band, life_distance(scenario), **options)
 

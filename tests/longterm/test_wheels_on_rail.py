@@ -1,12 +1,19 @@
 """Several wheels on one rail (WheelsOnRail): the Fourier technique over the wheels of a bogie,
 coupled through the rail's transfer receptance; each order's rate an eigenproblem over them."""
 
+import json
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
-from railwear.longterm.fourier import Fourier
-from railwear.longterm.vehicle_track import WheelsOnRail
-from railwear.scenario import build, load_scenario
+from railwear.errors import ScenarioError
+from railwear.longterm.fourier import Fourier, FourierCycle
+from railwear.longterm.vehicle_track import (METRO, VehicleTrackModel, WheelsFourier, WheelsOnRail,
+                                              wheels_growth_map)
+from railwear.scenario import build, load_scenario, scenario_hash
+from railwear.units import KM, kmh_to_m_s
 
 ORDERS = np.arange(2, 21)
 
@@ -75,3 +82,92 @@ def test_the_docs_table_is_what_its_script_prints(capsys):
     rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| 0")]
     page = (docs / "vehicle_track.md").read_text(encoding="utf-8")
     assert len(rows) == 5 and all(row in page for row in rows)
+
+
+BOGIE = {"body.wheel_positions_m": [0.0, 2.5]}
+
+
+def test_one_wheel_given_is_the_one_wheel_scenario_bit_for_bit(metro):
+    """``wheel_positions_m = [0]`` builds the single-wheel Fourier technique, the same numbers bit
+    for bit; left out, the scenario (and its hash) is what it was before the field existed."""
+    sc = load_scenario("metro")
+    one = load_scenario("metro", {"body.wheel_positions_m": [0.0]})
+    assert "wheel_positions_m" not in sc.applicable()["body"] and scenario_hash(sc) != scenario_hash(one)
+    a, b = build.fourier_technique(sc), build.fourier_technique(one)
+    assert type(a) is type(b) is Fourier
+    assert np.array_equal(a.rates(ORDERS), b.rates(ORDERS)) and a.mean_rate == b.mean_rate
+
+
+def test_wheels_fourier_of_one_wheel_is_fourier_and_averages_a_cycle_by_distance(metro):
+    """One wheel: the fastest eigen-rate is the single wheel's rate to 1e-12. Over a cycle of two
+    segments (70 km/h traction on 3/4 of the distance, 40 km/h braking) the per-metre rates are
+    :class:`FourierCycle`'s distance-weighted mean to 1e-12 and the mean wear the same."""
+    model, law, band, single = metro
+    one = WheelsFourier((WheelsOnRail(model, (0.0,)),), law, band)
+    np.testing.assert_allclose(one.rates(ORDERS), single, rtol=1e-12)
+    assert one.mean_rate == pytest.approx(Fourier.disk_wheel(model, law, band).mean_rate, rel=1e-14)
+    slow = build.linear_model(build.at_demand(load_scenario("metro"), -0.03), kmh_to_m_s(40.0))[0]
+    cycle = WheelsFourier((WheelsOnRail(model, (0.0,)), WheelsOnRail(slow, (0.0,))), law, band, (0.75, 0.25))
+    reference = FourierCycle.of([Fourier.disk_wheel(m, law, band) for m in (model, slow)], (0.75, 0.25))
+    np.testing.assert_allclose(cycle.rates(ORDERS), reference.rates(ORDERS), rtol=1e-12)
+    assert cycle.mean_rate == pytest.approx(reference.mean_rate, rel=1e-12)
+    with pytest.raises(ScenarioError, match="shares"):
+        WheelsFourier((WheelsOnRail(model, (0.0,)),), law, band, (0.5,))
+
+
+def test_a_bogie_run_takes_the_fastest_combination_and_names_it(metro):
+    """``railwear.api.run`` of the metro scenario with a bogie of 2.5 m: each order evolves at the
+    fastest eigen-rate of :meth:`WheelsOnRail.rates`, and the result and summary name its
+    combination: at order 8 the two wheels in anti-phase with equal amplitudes."""
+    from railwear import api, results
+
+    model, law, band, _ = metro
+    ds = api.run(load_scenario("metro", BOGIE))
+    lam, _ = WheelsOnRail(model, (0.0, 2.5)).rates(ORDERS, law, band)
+    np.testing.assert_allclose(ds.harmonic_growth_rate.sel(order=ORDERS).values, lam[:, 0].real, rtol=1e-12)
+    run = results.summary(ds)["runs"][0]
+    assert run["dominant_order"] == 8 and run["wheel_positions_m"] == [0.0, 2.5]
+    phases, amplitudes = run["combination"]["phases_deg"], run["combination"]["amplitudes"]
+    assert phases[0] == 0.0 and abs(abs(phases[1]) - 180.0) < 0.5  # measured -179.87: 2.5 m is not whole bays
+    np.testing.assert_allclose(amplitudes, [1.0, 1.0], atol=1e-2)
+    assert "wheels at 0, 2.5 m on one rail: order 8 grows with their polygons at phases 0, -180 deg" in \
+        results.summary_text(results.summary(ds))
+
+
+def test_the_wheels_growth_map_of_one_wheel_is_the_growth_map():
+    """The map of the fastest combination, one wheel: :meth:`VehicleCase.growth_map` to 1e-12."""
+    law = build.wear_law(load_scenario("metro"))
+    speeds, orders = kmh_to_m_s(np.array([60.0, 80.0])), np.arange(5, 12)
+    one = wheels_growth_map(METRO, (0.0,), speeds, orders, law)
+    np.testing.assert_allclose(one.growth_rate, METRO.growth_map(speeds, orders, law).growth_rate, rtol=1e-12)
+    two = wheels_growth_map(METRO, (0.0, 2.5), speeds, orders, law)
+    model = VehicleTrackModel(METRO.wheel(speeds[0]), METRO.track, 8, METRO.wheel_modes)
+    lam, _ = WheelsOnRail(model, (0.0, 2.5)).rates(orders, law, METRO.band_width)
+    np.testing.assert_allclose(two.growth_rate[0], lam[:, 0].real / speeds[0] * KM, rtol=1e-10)
+
+
+def test_the_scenario_refuses_what_one_wheel_models_cannot_take():
+    for positions in ([1.0, 2.5], [0.0, 2.5, 2.5], [0.0, 200.0]):
+        with pytest.raises(ScenarioError, match="body.wheel_positions_m"):
+            load_scenario("metro", {"body.wheel_positions_m": positions})
+    with pytest.raises(ScenarioError, match="body.wheel_positions_m: the time-domain"):
+        build.strategy(load_scenario("metro", {**BOGIE, "strategy.kind": "stepwise"}))
+
+
+def test_railwear_run_on_a_bogie_file(tmp_path):
+    """The user path in a fresh interpreter: a scenario file with two wheels runs, its summary
+    names the combination; a bad position is one line naming the field, exit 2."""
+    from railwear.scenario import builtin_text
+
+    text = builtin_text("metro").replace('kind = "vehicle_track"', 'kind = "vehicle_track"\nwheel_positions_m = [0, 2.5]')
+    (tmp_path / "bogie.toml").write_text(text)
+    out = subprocess.run([sys.executable, "-m", "railwear", "run", str(tmp_path / "bogie.toml"), "-o",
+                          str(tmp_path / "out"), "--no-figures"], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    run = json.loads((tmp_path / "out" / "summary.json").read_text())["runs"][0]
+    assert run["combination"]["order"] == 8 and abs(abs(run["combination"]["phases_deg"][1]) - 180) < 0.5
+    (tmp_path / "bad.toml").write_text(text.replace("[0, 2.5]", "[0, -2.5]"))
+    bad = subprocess.run([sys.executable, "-m", "railwear", "run", str(tmp_path / "bad.toml"), "-o",
+                          str(tmp_path / "bad")], capture_output=True, text=True, timeout=120)
+    assert bad.returncode == 2 and "body.wheel_positions_m" in bad.stderr
+    assert len(bad.stderr.strip().splitlines()) == 1 and "Traceback" not in bad.stderr
