@@ -4,7 +4,9 @@ docs/vehicle_track.md ("Short-wavelength contact physics").
 Left: the non-steady contact's factors against the wavelength in patch lengths, Kalker's exact
 linear theory on the half-space grid and the simplified theory, with the steady model's ``sinc²``
 on the rolling-radius term. Right: growth per order of the metro wheel braking at 70 km/h under
-the three contacts. Prints the fastest orders (1-80) of the metro and high-speed cases.
+the three contacts. Prints the fastest orders (1-80) of the metro and high-speed cases. Then the
+longitudinal compliance in series with the contact (the rail head's, the wheel centre's): its table
+and docs/figures/tangential-compliance.png.
 Run: python docs/transient_contact.py
 """
 
@@ -26,11 +28,49 @@ CONTACTS = {"steady": "steady (today)", "transient": "non-steady, half-space", "
 PER_10000_KM = 1e7
 
 
-def rates(case, kmh, traction, orders, contact):
+TANGENTIAL = {(): "rigid (today)", ("rail",): "rail head", ("wheel",): "wheel centre", ("rail", "wheel"): "both"}
+
+
+def rates(case, kmh, traction, orders, contact, tangential=()):
     """Growth per 10 000 km of ``orders`` for ``case`` at ``kmh`` with ``traction`` (signed)."""
     v = kmh_to_m_s(kmh)
     c = dataclasses.replace(case, traction_coefficient=traction)
-    return c.fourier(v, EnergyLaw(), contact=contact).rates(orders).real / v * PER_10000_KM
+    return c.fourier(v, EnergyLaw(), contact=contact, tangential=tangential).rates(orders).real / v * PER_10000_KM
+
+
+def tangential_table():
+    """Fastest order of 1-120 (its rate) and order 8's / 22's under each compliance."""
+    orders = np.arange(1, 121)
+    rows = []
+    for case, kmh, demand, mark in ((METRO, 70, 0.05, 8), (HIGH_SPEED, 300, 0.035, 22)):
+        for sign in (1, -1):
+            for contact in ("steady", "transient"):
+                cells = []
+                for tangential in TANGENTIAL:
+                    r = rates(case, kmh, sign * demand, orders, contact, tangential)
+                    i = int(np.argmax(r))
+                    cells.append(f"{orders[i]} ({r[i]:+.2f}); {r[mark - 1]:+.2f}")
+                rows.append(f"| {case.name} {kmh} km/h | {sign * demand:+.3f} | {contact} | " + " | ".join(cells) + " |")
+    return rows
+
+
+def tangential_figure(out=Path(__file__).parent / "figures" / "tangential-compliance.png"):
+    orders = np.arange(1, 121)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True, sharex=True)
+    for ax, traction in zip(axes, (0.05, -0.05)):
+        for i, (tangential, label) in enumerate(TANGENTIAL.items()):
+            ax.plot(orders, rates(METRO, 70, traction, orders, "steady", tangential), color=f"C{i}", label=label)
+        ax.plot(orders, rates(METRO, 70, traction, orders, "transient", ("rail", "wheel")), "k--",
+                label="both, non-steady contact")
+        ax.axhline(0.0, color="0.5", lw=0.8)
+        ax.axvspan(6, 9, color="0.85", zorder=0, label="field: metro orders 6-9")
+        ax.set_xlabel("polygon order n [-]")
+        ax.set_ylabel("growth rate [1 per 10 000 km]")
+        ax.set_title(f"Metro wheel, 70 km/h, {'traction' if traction > 0 else 'braking'} {traction:+.2f} W")
+    axes[0].legend(fontsize=8, title="longitudinal compliance", title_fontsize=8)
+    fig.savefig(out, dpi=130)
+    plt.close(fig)
+    return out
 
 
 def table():
@@ -87,3 +127,7 @@ if __name__ == "__main__":
     print("|---|---|---|---|---|---|")
     print("\n".join(table()))
     print(main())
+    print("| case | traction | contact | " + " | ".join(TANGENTIAL.values()) + " |")
+    print("|---|---|---|---|---|---|---|")
+    print("\n".join(tangential_table()))
+    print(tangential_figure())

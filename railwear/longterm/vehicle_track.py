@@ -38,6 +38,7 @@ from railwear.errors import ScenarioError
 from railwear.longterm.fourier import Fourier, Harmonics, contact_filter, law_terms, stability_map
 from railwear.track import Support, Track, load_offset, rail, receptance, support_set
 from railwear.units import KM
+from railwear.track.longitudinal import longitudinal_receptance
 
 __all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_map", "growth_parts", "METRO",
            "HIGH_SPEED", "HIGH_SPEED_TRACK", "WheelsOnRail", "WheelsFourier", "growing_combinations",
@@ -45,6 +46,7 @@ __all__ = ["VehicleCase", "VehicleTrackModel", "vehicle_track_fourier", "growth_
 
 GRAVITY = 9.81  # m/s²
 _RAIL_STATE = 6  # z_r in the disk wheel's state vector
+TANGENTIAL = ("rail", "wheel")
 _WHEEL_STATES = slice(0, 6)  # phi, Omega, z_w, z_w', z_s, z_s'
 
 
@@ -79,13 +81,17 @@ class VehicleTrackModel:
     adds the compliance ``1 / (m_k (ω_k² - ω² + 2iζ_k ω_k ω))`` in series with the rail's.
     ``contact``: ``"steady"`` (Kalker's steady creep, the perturbations spread evenly over the
     patch: today's model) or a :class:`~railwear.contact.transient.TransientContact` (the
-    non-steady contact, :meth:`transient_transfer`)."""
+    non-steady contact, :meth:`transient_transfer`). ``tangential``: the longitudinal compliances
+    in series with the contact, any of ``"rail"`` (the rail head's,
+    :func:`~railwear.track.longitudinal.longitudinal_receptance`) and ``"wheel"`` (the wheel's
+    centre as a free mass, ``-1 / (m ω²)``); empty: both rigid (today's model)."""
 
     wheel: DiskWheelModel
     track: Track
     positions: int | str | float = 8
     wheel_modes: tuple = ()
     contact: object = "steady"
+    tangential: tuple = ()
 
     def __post_init__(self):
         if not isinstance(self.wheel, DiskWheelModel):
@@ -100,6 +106,10 @@ class VehicleTrackModel:
         object.__setattr__(self, "_modes", modes)
         if not (self.contact == "steady" if isinstance(self.contact, str) else isinstance(self.contact, TransientContact)):
             raise ScenarioError(f"contact: must be 'steady' or a TransientContact, got {self.contact!r}")
+        tangential = tuple(self.tangential)
+        if not set(tangential) <= set(TANGENTIAL) or len(set(tangential)) != len(tangential):
+            raise ScenarioError(f"tangential: any of {', '.join(TANGENTIAL)}, each once, got {self.tangential!r}")
+        object.__setattr__(self, "tangential", tangential)
         offsets, weights = bay_offsets(self.track, self.positions)
         object.__setattr__(self, "_offsets", offsets)
         object.__setattr__(self, "_weights", weights)
@@ -144,6 +154,16 @@ class VehicleTrackModel:
             out += 1.0 / (mass * (w**2 - omega**2 + 2j * zeta * w * omega))
         return out
 
+    def tangential_receptance(self, angular_frequency) -> np.ndarray:
+        """The longitudinal compliance in series with the contact [m/N] (see ``tangential``)."""
+        omega = np.atleast_1d(np.asarray(angular_frequency, float))
+        out = np.zeros(omega.shape, complex)
+        if "rail" in self.tangential:
+            out += longitudinal_receptance(self.track.rail, omega)
+        if "wheel" in self.tangential:
+            out -= 1 / (self.wheel.wheel_mass * omega**2)
+        return out
+
     def remember(self, angular_frequency, alpha):
         """Use ``alpha`` (``(offsets, len(ω))``, m/N) as the rail receptance at these ``ω``
         (rad/s): a map evaluates the track once for all speeds."""
@@ -169,8 +189,8 @@ class VehicleTrackModel:
         ``angular_frequency`` [rad/s]: ``Σ_j w_j H(ω, d_j)``, complex (units of the output per m)."""
         if output not in self.LINEAR_OUTPUTS:
             raise ScenarioError(f"output: must be one of {self.LINEAR_OUTPUTS}, got {output!r}")
-        if self.filters_contact:
-            return self.transient_transfer(angular_frequency, output)
+        if self.filters_contact or self.tangential:
+            return self._closed_form(angular_frequency, output)
         return self._steady_transfer(angular_frequency, output)
 
     def _steady_transfer(self, angular_frequency, output):
@@ -201,40 +221,65 @@ class VehicleTrackModel:
 
         (``a, b`` of :meth:`power_sensitivities`, ``f = ∂F/∂ξ``, ``F_N = ∂F/∂N``; the load's part
         kept quasi-steady). With every factor 1 and ``S = 1`` this is the steady transfer
-        (:meth:`power_load_split`). Outputs: ``frictional_power`` and ``normal_force``
-        (``S² N̂/ū``) as the wear sees them, ``creep_force``; ``creepage`` is refused (a law
-        driven by the sliding speed has no deposit rule here). ``parts``: the power's
-        ``rolling_radius``, ``rotation`` and ``normal_force`` parts instead."""
+        (:meth:`power_load_split`). A ``tangential`` compliance ``α_t`` moves the surfaces apart
+        by ``α_t F̂``, a uniform creepage ``-ik α_t F̂`` (``k = ω / V``), so the force and the
+        uniform creepage the contact sees become
+
+            F̂ = P [f (T_u c_ξ Ω̂ + T_m D_ξ) + F_N S N̂/ū],   ξ̂_u = c_ξ Ω̂ - ik α_t F̂,   P = 1 / (1 + ik α_t f T_u)
+
+        and ``P`` multiplies every creep-force term of the rotation. Outputs: ``frictional_power``
+        and ``normal_force`` (``S² N̂/ū``) as the wear sees them, ``creep_force``; ``creepage`` is
+        refused (a law driven by the sliding speed has no deposit rule here). ``parts``: the
+        power's ``rolling_radius`` (at fixed wheel speed and load), ``rotation`` and
+        ``normal_force`` parts instead."""
         if not self.filters_contact:
             raise ScenarioError("contact: transient_transfer needs a TransientContact")
-        if output == "creepage":
+        return self._closed_form(angular_frequency, output, parts)
+
+    def _closed_form(self, angular_frequency, output="frictional_power", parts=False):
+        """:meth:`transient_transfer`'s equations, under the steady contact every factor 1 and
+        ``S = 1`` (its filter ``F_n²`` then stays with :meth:`Fourier.disk_wheel`), where only
+        ``creepage`` (``ξ̂_u + D_ξ``, the creepage the contact sees) is an output as well."""
+        if output == "creepage" and self.filters_contact:
             raise ScenarioError("contact: the transient contact carries the frictional power and the normal force; "
                                 "a wear law driven by the sliding speed (archard) needs contact = 'steady'")
         A, B, c, d = self._linear
         out = self.LINEAR_OUTPUTS
         n, xi, fx = out.index("normal_force"), out.index("creepage"), out.index("creep_force")
         omega = np.atleast_1d(np.asarray(angular_frequency, float))
-        kappa = omega * self.patch_half_length / (self.speed * (1 + self.steady_creepage()))
-        f = self.contact.factors(kappa)
-        filt = contact_filter(kappa, 1.0)
+        if self.filters_contact:
+            kappa = omega * self.patch_half_length / (self.speed * (1 + self.steady_creepage()))
+            f = self.contact.factors(kappa)
+            filt = contact_filter(kappa, 1.0)
+        else:
+            f = dict.fromkeys(("force_uniform", "force_material", "wear_uniform", "wear_material"), 1.0)
+            filt = 1.0
         load = self._steady_transfer(omega, "normal_force")
         a_p, b_p, d_xi = self.power_sensitivities()
         c_xi, a11 = c[xi, 1], A[1, 1]
+        slope, per_n = c[fx, 1] / c_xi, c[fx, 2] / c[n, 2]
         spin = a11 / c_xi  # Ω' per unit creepage
         per_load = A[1, 2] / c[n, 2]
         lever = B[1] - per_load * d[n] - spin * d_xi
-        rotation = (spin * d_xi * f["force_material"] + filt * (lever + per_load * load)) / (
-            1j * omega - a11 * f["force_uniform"])
+        shift = 1j * omega / self.speed * self.tangential_receptance(omega)  # ik α_t
+        p = 1 / (1 + shift * slope * f["force_uniform"])
+        rotation = (p * spin * d_xi * f["force_material"] + filt * (lever + p * per_load * load)) / (
+            1j * omega - p * a11 * f["force_uniform"])
+        force = p * (slope * (f["force_uniform"] * c_xi * rotation + f["force_material"] * d_xi) + per_n * filt * load)
         if parts:
-            return {"rolling_radius": b_p * f["wear_material"] * d_xi, "rotation": b_p * f["wear_uniform"] * c_xi * rotation,
-                    "normal_force": a_p * filt**2 * load}
+            material = p * slope * f["force_material"] * d_xi
+            return {"rolling_radius": b_p * (f["wear_material"] * d_xi - f["wear_uniform"] * shift * material),
+                    "rotation": b_p * f["wear_uniform"] * c_xi * rotation * p,
+                    "normal_force": a_p * filt**2 * load - b_p * f["wear_uniform"] * shift * p * per_n * filt * load}
+        uniform = c_xi * rotation - shift * force
         if output == "frictional_power":
-            res = b_p * (f["wear_uniform"] * c_xi * rotation + f["wear_material"] * d_xi) + a_p * filt**2 * load
+            res = b_p * (f["wear_uniform"] * uniform + f["wear_material"] * d_xi) + a_p * filt**2 * load
         elif output == "normal_force":
             res = filt**2 * load
+        elif output == "creepage":
+            res = uniform + d_xi
         else:
-            slope, per_n = c[fx, 1] / c_xi, c[fx, 2] / c[n, 2]
-            res = slope * (f["force_uniform"] * c_xi * rotation + f["force_material"] * d_xi) + per_n * filt * load
+            res = force
         return res if np.ndim(angular_frequency) else res[0]
 
     def power_sensitivities(self, terms=None):
@@ -261,12 +306,13 @@ class VehicleTrackModel:
         speed), ``"rotation"`` ``b (ξ̂/ū - D_ξ)`` (the wheel's speed following the creep force),
         ``"normal_force"`` ``a N̂/ū``. They sum to ``transfer(ω, "frictional_power")``; with a
         law's ``terms`` (:meth:`power_sensitivities`) the same split of its driver's transfer."""
-        if self.filters_contact:
+        if self.filters_contact or self.tangential:
             if terms is not None and set(terms) - {"frictional_power"}:
-                raise ScenarioError("contact: the transient contact's parts are those of the frictional power")
+                raise ScenarioError("contact: the parts of the transient contact or a tangential compliance are those "
+                                    "of the frictional power")
             weight = 1.0 if terms is None else terms["frictional_power"]
             return {k: weight * np.asarray(v, complex) for k, v in
-                    self.transient_transfer(angular_frequency, parts=True).items()}
+                    self._closed_form(angular_frequency, parts=True).items()}
         a, b, d_xi = self.power_sensitivities(terms)
         creepage = np.asarray(self.transfer(angular_frequency, "creepage"), complex)
         normal = np.asarray(self.transfer(angular_frequency, "normal_force"), complex)
@@ -278,7 +324,9 @@ class VehicleTrackModel:
         wheel's rotation (``J Ω' = T - (R0 + ū) Fx``) solved for the creepage given the load, so
         that ``P`` and ``Q`` hold only the rotation and the contact, not the vertical dynamics or
         the rail (the same at every offset). ``terms``: a law's driver for ``π``
-        (:meth:`power_sensitivities`)."""
+        (:meth:`power_sensitivities`). Rigid tangentially only."""
+        if self.tangential:
+            raise ScenarioError("tangential: the load split and the passive bound are for the rigid tangential model")
         A, B, c, d = self._linear
         out = self.LINEAR_OUTPUTS
         n, xi = out.index("normal_force"), out.index("creepage")
@@ -320,15 +368,17 @@ def coupled_resonance(model: VehicleTrackModel, low, high, points=4001) -> float
 
 
 def vehicle_track_fourier(wheel, track, speed, law, band_width, positions=8, driver="law",
-                          wheel_modes=(), contact="steady") -> Fourier:
+                          wheel_modes=(), contact="steady", tangential=()) -> Fourier:
     """:class:`Fourier` rates of ``wheel`` (a rigid-rail :class:`DiskWheelModel`, with
     ``wheel_modes``) on ``track`` at ``speed`` (m/s), as :meth:`Fourier.disk_wheel` gives them for
-    the disk wheel; ``contact`` as :class:`VehicleTrackModel` takes it."""
-    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions, wheel_modes, contact)
+    the disk wheel; ``contact`` and ``tangential`` as :class:`VehicleTrackModel` takes them."""
+    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions, wheel_modes, contact,
+                              tangential)
     return Fourier.disk_wheel(model, law, band_width, driver)
 
 
-def growth_parts(wheel, track, speed, law, band_width, orders, positions=8, wheel_modes=(), contact="steady") -> dict:
+def growth_parts(wheel, track, speed, law, band_width, orders, positions=8, wheel_modes=(), contact="steady",
+                 tangential=()) -> dict:
     """Growth rates ``Re λ_n`` [1/s] of ``wheel`` on ``track`` at ``speed`` (m/s) under the wear
     law ``law`` (with a linearisation), split as :meth:`VehicleTrackModel.frictional_power_parts`
     splits the transfer of the law's driver: ``"rolling_radius"``, ``"rotation"``,
@@ -337,8 +387,9 @@ def growth_parts(wheel, track, speed, law, band_width, orders, positions=8, whee
     ``F_n²``, ``"passive_bound"`` (the largest rate any passive vertical wheel-side mode could give,
     from :meth:`VehicleTrackModel.passive_bound`), ``"frequency"`` ``n Ω`` [Hz] and ``"order"``.
     Under a transient ``contact`` the parts carry their own filters (``"contact_filter"`` is 1)
-    and the passive bound is not given (NaN)."""
-    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions, wheel_modes, contact)
+    and the passive bound is not given (NaN), nor with a ``tangential`` compliance."""
+    model = VehicleTrackModel(dataclasses.replace(wheel, speed=float(speed)), track, positions, wheel_modes, contact,
+                              tangential)
     fourier = Fourier.disk_wheel(model, law, band_width)
     _, terms = law_terms(model, law, band_width)
     n = np.atleast_1d(np.asarray(orders, float))
@@ -350,20 +401,21 @@ def growth_parts(wheel, track, speed, law, band_width, orders, positions=8, whee
     out = {name: scale * np.real(part) for name, part in model.frictional_power_parts(omega, terms).items()}
     out["total"] = fourier.rates(n).real
     out["contact_filter"] = filt
-    out["passive_bound"] = np.full_like(n, np.nan) if model.filters_contact else scale * model.passive_bound(omega, terms)
+    out["passive_bound"] = (np.full_like(n, np.nan) if model.filters_contact or model.tangential
+                            else scale * model.passive_bound(omega, terms))
     out["frequency"] = omega / (2 * np.pi)
     out["order"] = n
     return out
 
 
 def growth_map(wheel, track, speeds, orders, law, band_width, positions=8, driver="law",
-               wheel_modes=(), contact="steady"):
+               wheel_modes=(), contact="steady", tangential=()):
     """:func:`stability_map` (growth per km over speed × order) of ``wheel`` on ``track``, with the
     rail receptance evaluated once per bay offset for every speed's frequencies ``n Ω``."""
     speeds = np.atleast_1d(np.asarray(speeds, float))
     n = np.asarray(np.atleast_1d(orders), float)
-    models = {v: VehicleTrackModel(dataclasses.replace(wheel, speed=float(v)), track, positions, wheel_modes, contact)
-              for v in speeds}
+    models = {v: VehicleTrackModel(dataclasses.replace(wheel, speed=float(v)), track, positions, wheel_modes, contact,
+                                   tangential) for v in speeds}
     omegas = [n * (v * (1 + m.steady_creepage()) / m.radius) for v, m in models.items()]
     first = next(iter(models.values()))
     alpha = first.rail_receptance(np.concatenate(omegas))
@@ -428,20 +480,20 @@ class VehicleCase:
             return self.transient_contact("halfspace" if contact == "transient" else "simplified")
         return contact
 
-    def fourier(self, speed, law, positions=8, driver="law", contact="steady") -> Fourier:
+    def fourier(self, speed, law, positions=8, driver="law", contact="steady", tangential=()) -> Fourier:
         """:func:`vehicle_track_fourier` of this case at ``speed`` (m/s); ``contact`` see :meth:`_contact`."""
         return vehicle_track_fourier(self.wheel(speed), self.track, speed, law, self.band_width, positions, driver,
-                                     self.wheel_modes, self._contact(contact))
+                                     self.wheel_modes, self._contact(contact), tangential)
 
-    def growth_parts(self, speed, orders, law, positions=8, contact="steady") -> dict:
+    def growth_parts(self, speed, orders, law, positions=8, contact="steady", tangential=()) -> dict:
         """:func:`growth_parts` of this case at ``speed`` (m/s)."""
         return growth_parts(self.wheel(speed), self.track, speed, law, self.band_width, orders, positions,
-                            self.wheel_modes, self._contact(contact))
+                            self.wheel_modes, self._contact(contact), tangential)
 
-    def growth_map(self, speeds, orders, law, positions=8, driver="law", contact="steady"):
+    def growth_map(self, speeds, orders, law, positions=8, driver="law", contact="steady", tangential=()):
         """:func:`growth_map` of this case over ``speeds`` (m/s) and ``orders``."""
         return growth_map(self.wheel(speeds[0]), self.track, speeds, orders, law, self.band_width, positions, driver,
-                          self.wheel_modes, self._contact(contact))
+                          self.wheel_modes, self._contact(contact), tangential)
 
 
 # Metro motor car, 14 t axle load, on ballasted track (sources in docs/vehicle_track.md).
