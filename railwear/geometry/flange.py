@@ -11,6 +11,11 @@ inside the tape circle (``y = -T``):
 ``y_tip`` the highest point of the flange, the flank the profile between it and the tape circle.
 The reference heights (70, 10 and 2 mm) are those of EN 15313 and of common profile gauges; the
 new S1002 (EN 13715, designation h28 e32.5) has Sh 28 mm, Sd 32.5 mm, qR about 10.8 mm.
+
+A turning that restores the design profile cuts the smallest radial depth ``d`` that puts the
+design profile, lowered by ``d``, inside the worn one everywhere (:func:`restoring_depth`):
+
+    d = max_y (z_design(y) - z_worn(y))
 """
 
 from __future__ import annotations
@@ -21,7 +26,7 @@ import numpy as np
 
 from railwear.errors import ScenarioError
 
-__all__ = ["FlangeParameters", "flange_parameters", "TAPE_CIRCLE", "THICKNESS_HEIGHT", "GRADIENT_DEPTH"]
+__all__ = ["FlangeParameters", "flange_parameters", "restoring_depth", "TAPE_CIRCLE", "THICKNESS_HEIGHT", "GRADIENT_DEPTH"]
 
 TAPE_CIRCLE = 0.070  # m, inner face of the wheel to the tape circle
 THICKNESS_HEIGHT = 0.010  # m above the tape circle, where Sd is measured
@@ -65,3 +70,20 @@ def flange_parameters(profile, resolution=1e-5) -> FlangeParameters:
 
     at_thickness = crossing(z_tape + THICKNESS_HEIGHT)
     return FlangeParameters(height, at_thickness + TAPE_CIRCLE, at_thickness - crossing(z_tip - GRADIENT_DEPTH))
+
+
+def restoring_depth(design, worn, y=None) -> float:
+    """``d = max_y (z_design(y) - z_worn(y))`` (m): the smallest radial depth by which the
+    ``design`` profile is lowered to lie inside the ``worn`` one at every ``y`` (m; default the
+    points of both profiles inside both spans). Both profiles ``z(y)`` are radii over the same
+    reference (the new wheel's tape circle), as :func:`~railwear.geometry.worn_profile` gives
+    them: a thinned flange, whose flank moved by ``t`` at a slope ``dz/dy``, costs ``|dz/dy| t``
+    of radius."""
+    if y is None:
+        lo, hi = max(design.span[0], worn.span[0]), min(design.span[1], worn.span[1])
+        y = np.union1d(design.y, worn.y)
+        y = y[(y >= lo) & (y <= hi)]
+    y = np.asarray(y, float)
+    if y.size == 0:
+        raise ScenarioError(f"profiles {design.name!r} and {worn.name!r} share no lateral position")
+    return float(np.max(design(y) - worn(y)))

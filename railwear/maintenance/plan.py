@@ -10,6 +10,11 @@ Per life: the turnings (distance, trigger, peak to peak and dominant order befor
 depth, diameters, the order selected after), the distance to scrap ``S`` (km), the distance per
 millimetre of diameter ``S / (D_0 - D_end)`` and the turnings per 10⁶ km ``10⁶ k / S``; over
 the drawn wheels the median of ``S`` with its 5-95 % band.
+
+On a body that simulates the lateral profile (the wheelset) the plan runs one wheel on the
+profile's wear (:mod:`railwear.maintenance.lateral`): flange triggers, a turning that restores the
+design profile, the diameter worn at the tape circle; the polygon is not grown there (that body has
+no linear model), and ``g`` multiplies the profile's wear rate.
 """
 
 import hashlib
@@ -22,6 +27,7 @@ from railwear.checkpoints import wanted
 from railwear.results import _atomic, _readable
 from railwear.errors import OptionError, ScenarioError
 from railwear.longterm.spectra import UNDEFINED
+from railwear.maintenance import lateral
 from railwear.maintenance.policy import load_policy
 from railwear.maintenance.turning import Life, RateTable, TurnRecord, WheelState
 from railwear.scenario import build, load_scenario, scenario_hash, to_toml
@@ -51,6 +57,20 @@ class WheelRates:
                                                 self.highest)
         table = self.built[diameter]
         return table if growth == 1.0 else table.scaled(growth)
+
+
+class ProfileRates:
+    """The rates of a wheel on a body without a polygon model but with a lateral profile
+    (``wear``, a :class:`~railwear.maintenance.lateral.ProfileWear`): no growth of any order
+    1 .. ``highest``, the mean radius worn at the tape circle, ``ṙ = -g w'(0) V``."""
+
+    def __init__(self, scenario, highest, wear):
+        self.scenario, self.highest, self.wear = scenario, highest, wear
+        self.speed = float(build.one_speed(scenario, "; plan one speed"))
+
+    def at(self, diameter, growth=1.0):
+        return RateTable(np.zeros(self.highest, complex), -growth * self.wear.tape_rate * self.speed, self.speed,
+                         diameter / 2)
 
 
 def re_profiled(scenario):
@@ -95,8 +115,12 @@ def _checked_growth(growth):
     return tuple(float(g) for g in np.sort(values))
 
 
-def _policies(policies, base, diameter):
-    """The policy files and their SI policies, checked against the wheel (names the field)."""
+POLYGON_TRIGGERS = ("peak_to_peak_mm", "order_level_db", "band_limit", "band_wavelength_mm", "peak_force_kN")
+
+
+def _policies(policies, base, diameter, scenario=None):
+    """The policy files and their SI policies, checked against the wheel and against what the
+    scenario's body simulates (names the field)."""
     files = [load_policy(p) for p in ([policies] if isinstance(policies, str) else policies)]
     if not files:
         raise OptionError("policy: give at least one policy")
@@ -108,6 +132,19 @@ def _policies(policies, base, diameter):
         if f.wheel.last_turning_diameter_mm * MM >= diameter:
             raise ScenarioError(f"{f.name}: wheel.last_turning_diameter_mm: {f.wheel.last_turning_diameter_mm:g} mm is not "
                                 f"below the scenario's new wheel ({diameter / MM:g} mm, wheel.radius_m)")
+        if scenario is not None:
+            kind = scenario.body.kind
+            if kind in lateral.BODIES:
+                polygon = f.trigger.given(POLYGON_TRIGGERS)
+                if polygon:
+                    raise ScenarioError(f"{f.name}: trigger.{polygon[0]}: body.kind {kind!r} has no model of the "
+                                        "polygon's growth; its triggers are the flange's and interval_km")
+            else:
+                flange = f.trigger.given(lateral.LIMITS)
+                if flange:
+                    raise ScenarioError(f"{f.name}: trigger.{flange[0]}: body.kind {kind!r} does not simulate the "
+                                        f"lateral profile; flange triggers need body.kind "
+                                        f"{' or '.join(repr(b) for b in lateral.BODIES)}")
         policy = f.build(base)
         policy.turning.residual.check(base.size)
         for limit in policy.triggers.limits:
@@ -138,14 +175,24 @@ def plan(scenario=None, policies=("metro-interval",), samples=0, seed=None, grow
     growth = _checked_growth(growth)
     base = re_profiled(sc)
     diameter = 2 * sc.wheel.radius_m
-    files, built = _policies(policies, base, diameter)
-    scenarios, speed, load, friction = wheel_conditions(sc, samples, seed)
-    wheels = [WheelRates(s, base.size // 2) for s in scenarios]
-    wheels[0].at(diameter)  # a scenario without a linear model is refused here, before any life
+    files, built = _policies(policies, base, diameter, sc)
     key = _fingerprint(sc, files, growth, samples, seed, horizon_km, resolution_km)
     if resume is not None and resume.fingerprint != key:
         raise ScenarioError("resume: the plan checkpoint was written for another plan (scenario, policies, samples, "
                             "seed, growth, horizon or resolution differ); run without --resume")
+    wear, start = None, 0.0
+    if sc.body.kind in lateral.BODIES:
+        if samples:
+            raise OptionError(f"samples: a plan on body.kind {sc.body.kind!r} runs one wheel (each drawn wheel would "
+                              "need its own wheelset-wear run); use --samples 0")
+        start = 0.5
+        wear = lateral.profile_wear(sc, None if progress is None else (lambda f: progress(start * f)))
+    scenarios, speed, load, friction = wheel_conditions(sc, samples, seed)
+    if wear is None:
+        wheels = [WheelRates(s, base.size // 2) for s in scenarios]
+        wheels[0].at(diameter)  # a scenario without a linear model is refused here, before any life
+    else:
+        wheels = [ProfileRates(sc, base.size // 2, wear)]
     lives = {} if resume is None else dict(resume.lives)
     total, done = len(wheels) * len(built) * len(growth), 0
     for w, wheel in enumerate(wheels):
@@ -154,14 +201,15 @@ def plan(scenario=None, policies=("metro-interval",), samples=0, seed=None, grow
             for g, multiplier in enumerate(growth):
                 if (p, g, w) not in lives:
                     lives[p, g, w] = policy.life(WheelState(base, diameter), lambda d, m=multiplier, r=wheel: r.at(d, m),
-                                                 horizon_km * KM, resolution_km * KM, force)
+                                                 horizon_km * KM, resolution_km * KM, force,
+                                                 None if wear is None else wear.scaled(multiplier))
                     if wanted(checkpoint):
                         checkpoint(PlanCheckpoint(key, dict(lives)))
                 done += 1
                 if progress is not None:
-                    progress(done / total)
+                    progress(start + (1 - start) * done / total)
     return dataset(sc, files, built, growth, lives, speed, load, friction,
-                   {"samples": samples, "seed": sc.service.seed if seed is None else seed, "horizon_km": horizon_km,
+                   {"profile_wear": wear, "samples": samples, "seed": sc.service.seed if seed is None else seed, "horizon_km": horizon_km,
                     "resolution_km": resolution_km})
 
 
@@ -199,6 +247,12 @@ def _fingerprint(scenario, files, growth, samples, seed, horizon_km, resolution_
 
 
 _RECORD_FLOATS = ("distance", "peak_to_peak", "cut", "before", "after")
+_FLANGE_FLOATS = ("flange_height", "flange_thickness", "flange_gradient", "profile_cut")
+
+
+def _flange_values(record):
+    """Sh, Sd, qR (m, NaN without a lateral profile) and the profile's cut (m) of a turning."""
+    return (*(record.flange or (np.nan,) * 3), record.profile_cut)
 _STATE_FLOATS = ("diameter", "distance", "since")
 
 
@@ -217,6 +271,7 @@ class PlanCheckpoint:
             states = (*life.starts, life.end)
             out.update({
                 f"{i}_records": np.array([[getattr(r, f) for f in _RECORD_FLOATS] for r in life.turnings], float).reshape(-1, 5),
+                f"{i}_flange": np.array([_flange_values(r) for r in life.turnings], float).reshape(-1, 4),
                 f"{i}_orders": np.array([[r.dominant_order, r.selected_order] for r in life.turnings], np.int64).reshape(-1, 2),
                 f"{i}_triggers": np.array([r.trigger for r in life.turnings], str),
                 f"{i}_u": np.stack([s.u for s in states]),
@@ -230,9 +285,13 @@ class PlanCheckpoint:
     def from_plain(cls, data):
         lives = {}
         for i, k in enumerate(map(tuple, np.asarray(data["keys"]).tolist())):
+            flange = data.get(f"{i}_flange", np.full((len(data[f"{i}_records"]), 4), np.nan))  # none before flange triggers
             records = tuple(TurnRecord(**dict(zip(_RECORD_FLOATS, map(float, row))), trigger=str(t),
-                                       dominant_order=int(o[0]), selected_order=int(o[1]))
-                            for row, o, t in zip(data[f"{i}_records"], data[f"{i}_orders"], data[f"{i}_triggers"]))
+                                       dominant_order=int(o[0]), selected_order=int(o[1]),
+                                       flange=() if np.all(np.isnan(fl[:3])) and fl[3] == 0 else tuple(map(float, fl[:3])),
+                                       profile_cut=float(fl[3]))
+                            for row, o, t, fl in zip(data[f"{i}_records"], data[f"{i}_orders"], data[f"{i}_triggers"],
+                                                     flange))
             states = tuple(WheelState(u, *map(float, f), int(n))
                            for u, f, n in zip(data[f"{i}_u"], data[f"{i}_states"], data[f"{i}_turned"]))
             lives[k] = Life(records, states[:-1], states[-1], str(data[f"{i}_end"][0]), int(data[f"{i}_selected"]),
@@ -258,12 +317,15 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
     from railwear.forecast import _speeds
 
     diameter = 2 * scenario.wheel.radius_m
+    options = dict(options)
+    wear = options.pop("profile_wear", None)
     n_p, n_g, n_w = len(policies), len(growth), len(speed)
     shape = (n_p, n_g, n_w)
     k_max = max([len(life.turnings) for life in lives.values()] + [1])
     per_life = {name: np.full(shape, np.nan) for name in ("scrap", "reached", "turnings", "final", "per_mm", "rate")}
     reasons, selected_new = np.empty(shape, object), np.zeros(shape, int)
-    turn = {name: np.full(shape + (k_max,), np.nan) for name in ("distance", "cut", "before", "after", "ptp")}
+    turn = {name: np.full(shape + (k_max,), np.nan) for name in ("distance", "cut", "before", "after", "ptp",
+                                                                 *_FLANGE_FLOATS)}
     turn_int = {name: np.zeros(shape + (k_max,), int) for name in ("dominant", "selected")}
     triggers = np.full(shape + (k_max,), "", object)
     points = max(life.history[0].size for (p, g, w), life in lives.items() if w == 0)
@@ -274,7 +336,7 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
         reasons[p, g, w], selected_new[p, g, w] = life.reason, life.selected_order
         for k, r in enumerate(life.turnings):
             for name, value in (("distance", r.distance / KM), ("cut", r.cut), ("before", r.before), ("after", r.after),
-                                ("ptp", r.peak_to_peak)):
+                                ("ptp", r.peak_to_peak), *zip(_FLANGE_FLOATS, _flange_values(r))):
                 turn[name][p, g, w, k] = value
             turn_int["dominant"][p, g, w, k], turn_int["selected"][p, g, w, k] = r.dominant_order, r.selected_order
             triggers[p, g, w, k] = r.trigger
@@ -302,6 +364,12 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
         "dominant_order": (tdims, turn_int["dominant"], {"units": "1", "long_name": "dominant order before the cut (0: no turning)"}),
         "selected_order": (tdims, turn_int["selected"], {"units": "1", "long_name": "fastest-growing order at the new diameter (0: no turning)"}),
         "trigger": (tdims, triggers.astype(str), {"long_name": "what asked for the turning"}),
+        **{f"{name}_at_turning": (tdims, turn[name], {"units": "m", "long_name": f"{label} before the cut, EN 15313 "
+                                                       "(NaN: no lateral profile)"})
+           for name, label in (("flange_height", "flange height Sh"), ("flange_thickness", "flange thickness Sd"),
+                               ("flange_gradient", "flange gradient qR"))},
+        "profile_cut": (tdims, turn["profile_cut"], {"units": "m", "long_name": "share of the cut that restores the "
+                                                     "design profile below the tape circle"}),
         **{name: (("wheel",), v.values, dict(v.attrs)) for name, v in _speeds(speed).items()},
         "static_load": (("wheel",), load, {"units": "kN", "long_name": "static wheel load"}),
         "friction_coefficient": (("wheel",), friction, {"units": "1", "long_name": "friction coefficient"}),
@@ -313,12 +381,21 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
         "peak_force_limit": (("policy",), np.array([np.nan if q.triggers.peak_force is None else q.triggers.peak_force
                                                     for q in policies]),
                              {"units": "N", "long_name": "peak wheel-rail force trigger of the policy (NaN: none)"}),
+        **{f"{key[:-3]}": (("policy",), np.array([next((x.value for x in q.triggers.flange if x.key == key), np.nan)
+                                                   for q in policies]),
+                             {"units": "m", "long_name": f"{lateral.LIMITS[key][2]} trigger of the policy (NaN: none)"})
+           for key in lateral.LIMITS},
         "last_turning_diameter": (("policy",), np.array([q.last_diameter for q in policies]),
                                   {"units": "m", "long_name": "last-turning diameter: scrapped there"}),
         "history_distance": (("policy", "growth", "point"), history["distance"], {"units": "km", "long_name": "distance run, wheel 0"}),
         "history_peak_to_peak": (("policy", "growth", "point"), history["ptp"], {"units": "m", "long_name": "peak-to-peak radius deviation, wheel 0"}),
         "history_diameter": (("policy", "growth", "point"), history["diameter"], {"units": "m", "long_name": "mean diameter, wheel 0"}),
     }
+    coords = {}
+    if wear is not None:
+        variables["profile_wear_rate"] = (("lateral",), wear.rate * KM, {
+            "units": "m km-1", "long_name": "depth of the lateral profile worn per km run", "source": wear.source})
+        coords["lateral"] = ("lateral", wear.lateral, {"units": "m", "long_name": "lateral position on the wheel profile"})
     if n_w > 1:
         with np.errstate(invalid="ignore"):
             q = np.quantile(scrap[:, :, 1:], QUANTILES, axis=-1, method="inverted_cdf")
@@ -329,14 +406,16 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
     attrs = {"scenario": to_toml(scenario), "scenario_hash": scenario_hash(scenario), "scenario_name": scenario.name,
              "new_diameter_m": diameter, "railwear_version": __version__,
              "growth_band": (f"growth multipliers {', '.join(f'{g:g}' for g in growth)} on the polygon rates of the Fourier "
-                             "technique: no field growth rate of a polygon is published"),
+                             "technique: no field growth rate of a polygon is published") if wear is None else (
+                 f"growth multipliers {', '.join(f'{g:g}' for g in growth)} on the lateral profile's wear rate: "
+                 "no field wear rate of this profile is calibrated"),
              **{f"policy_{i}": f.model_dump_json() for i, f in enumerate(files)},
              **{k: v for k, v in options.items() if v is not None}}
     return xr.Dataset(variables, coords={
         "policy": ("policy", [p.name for p in policies], {"long_name": "maintenance policy"}),
         "growth": ("growth", np.array(growth), {"units": "1", "long_name": "growth multiplier on the polygon rates"}),
         "wheel": ("wheel", np.arange(n_w), {"long_name": "wheel 0: the scenario's conditions; 1..N drawn from [service]"}),
-        "turning": ("turning", np.arange(1, k_max + 1), {"long_name": "turning number"})}, attrs=attrs)
+        "turning": ("turning", np.arange(1, k_max + 1), {"long_name": "turning number"}), **coords}, attrs=attrs)
 
 
 CHECKPOINT = "plan-checkpoint.npz"

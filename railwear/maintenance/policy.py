@@ -42,7 +42,10 @@ class TriggerSection(_Section):
     ``band_limit = "iso3095"`` or ``band_wavelength_mm`` with ``band_level_db``), and
     ``interval_km`` since the last turning, ``peak_force_kN``: the peak vertical wheel–rail force a
     wheel-impact-load detector reads, on the time-domain track at ``peak_force_speeds_kmh``
-    (default: the scenario's speed; :mod:`railwear.maintenance.detectors`)."""
+    (default: the scenario's speed; :mod:`railwear.maintenance.detectors`); the flange parameters of
+    EN 15313 on a body that simulates the lateral profile (:mod:`railwear.maintenance.lateral`):
+    ``flange_height_max_mm`` (Sh), ``flange_thickness_min_mm`` (Sd), ``flange_gradient_min_mm``
+    (qR)."""
 
     peak_to_peak_mm: Annotated[float, Field(gt=0, le=10)] | None = None
     order_level_db: Level | Annotated[list[Level], Field(min_length=1, max_length=MAX_ORDERS)] | None = None
@@ -54,13 +57,17 @@ class TriggerSection(_Section):
     peak_force_kN: Annotated[float, Field(ge=10, le=2000)] | None = None
     peak_force_speeds_kmh: Annotated[list[Annotated[float, Field(ge=5, le=500)]],
                                      Field(min_length=1, max_length=20)] | None = None
+    flange_height_max_mm: Annotated[float, Field(gt=12, le=60)] | None = None  # above the 10 + 2 mm Sd and qR need
+    flange_thickness_min_mm: Annotated[float, Field(ge=5, le=50)] | None = None
+    flange_gradient_min_mm: Annotated[float, Field(gt=0, le=30)] | None = None
 
     @model_validator(mode="after")
     def _consistent(self):
         given = [n for n in type(self).model_fields if getattr(self, n) is not None]
         if not set(given) - {"orders", "peak_force_speeds_kmh"}:
             raise ValueError("give at least one trigger: peak_to_peak_mm, order_level_db, band_limit or "
-                             "band_wavelength_mm, interval_km, peak_force_kN")
+                             "band_wavelength_mm, interval_km, peak_force_kN, flange_height_max_mm, "
+                             "flange_thickness_min_mm, flange_gradient_min_mm")
         if self.peak_force_speeds_kmh is not None and self.peak_force_kN is None:
             raise refuse("peak_force_speeds_kmh", "needs peak_force_kN")
         levels = self.order_level_db
@@ -86,6 +93,7 @@ class TriggerSection(_Section):
     def build(self):
         """The SI :class:`~railwear.maintenance.turning.Triggers`."""
         from railwear import forecast
+        from railwear.maintenance.lateral import LIMITS, FlangeLimit
 
         limits = []
         if self.peak_to_peak_mm is not None:
@@ -99,7 +107,12 @@ class TriggerSection(_Section):
                 [w * MM for w in self.band_wavelength_mm], self.band_level_db, name="the policy's band levels")))
         return Triggers(tuple(limits), None if self.interval_km is None else self.interval_km * KM,
                         None if self.peak_force_kN is None else self.peak_force_kN * KN,
-                        tuple(kmh_to_m_s(v) for v in self.peak_force_speeds_kmh or ()))
+                        tuple(kmh_to_m_s(v) for v in self.peak_force_speeds_kmh or ()),
+                        tuple(FlangeLimit(k, getattr(self, k) * MM) for k in LIMITS if getattr(self, k) is not None))
+
+    def given(self, names):
+        """The fields of ``names`` this section gives, in its order."""
+        return [n for n in type(self).model_fields if n in names and getattr(self, n) is not None]
 
 
 class CutSection(_Section):

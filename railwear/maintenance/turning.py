@@ -16,6 +16,10 @@ roughness). The technique is rebuilt at ``D_a``, so the order the wheel selects 
 diameter (``n ∝ D`` at a fixed frequency). A wheel is scrapped at its last-turning diameter
 ``D_s``: when wear takes its mean diameter there, or when a trigger asks for a turning that would
 take it below.
+
+Where the scenario simulates the lateral profile (:mod:`railwear.maintenance.lateral`), the flange
+parameters are further triggers, and the turning restores the design profile: its depth relative
+to the tape circle adds to the polygon's in the cut (:meth:`CutRule.depth`).
 """
 
 from dataclasses import dataclass, replace
@@ -88,16 +92,17 @@ class WheelState:
 
 @dataclass(frozen=True)
 class CutRule:
-    """The cut depth on the radius (m): ``c = max(c_min, Δ ⌈(ū - min u + m) / Δ⌉)``, the deepest
-    point below the mean plus the ``margin`` m, rounded up to the lathe's ``step`` Δ, at least
-    ``minimum`` c_min."""
+    """The cut depth on the radius (m): ``c = max(c_min, Δ ⌈(ū - min u + p + m) / Δ⌉)``, the deepest
+    point below the mean plus the depth ``p`` that restores the design profile below the tape
+    circle (0 without a lateral profile) plus the ``margin`` m, rounded up to the lathe's ``step``
+    Δ, at least ``minimum`` c_min."""
 
     margin: float
     step: float
     minimum: float
 
-    def depth(self, u):
-        steps = np.ceil((float(np.mean(u) - np.min(u)) + self.margin) / self.step - ROUNDING)
+    def depth(self, u, profile=0.0):
+        steps = np.ceil((float(np.mean(u) - np.min(u)) + profile + self.margin) / self.step - ROUNDING)
         return max(self.minimum, float(steps) * self.step)
 
 
@@ -169,7 +174,9 @@ class TurnRecord:
     """One turning: at ``distance`` (m) by ``trigger``, the polygon's ``peak_to_peak`` (m) and
     ``dominant_order`` before the cut, the ``cut`` (m), the mean diameters ``before`` and
     ``after`` (m); ``selected_order`` is the fastest-growing order at the new diameter (filled
-    by the life)."""
+    by the life); with a lateral profile the ``flange`` parameters before the cut (Sh, Sd, qR in m;
+    empty without, NaN where worn past measuring) and the share of the cut that restores the design
+    profile ``profile_cut`` (m)."""
 
     distance: float
     trigger: str
@@ -179,6 +186,8 @@ class TurnRecord:
     before: float
     after: float
     selected_order: int = 0
+    flange: tuple = ()
+    profile_cut: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -190,11 +199,21 @@ class Turning:
     residual: Residual
     base: np.ndarray | None = None
 
-    def apply(self, state, trigger=""):
+    def apply(self, state, trigger="", lateral=None):
         """``(state after, record)``: ``state`` (a :class:`WheelState`) turned, ``D_a = D_b - 2c``
-        with ``D_b`` its mean diameter; the new state is the residual about ``R = D_a / 2``."""
+        with ``D_b`` its mean diameter; the new state is the residual about ``R = D_a / 2``. With
+        ``lateral`` (a :class:`~railwear.maintenance.lateral.ProfileWear`, worn for
+        ``state.since``) the cut also restores the design profile."""
         u = state.u
-        c = self.cut.depth(u)
+        flange, profile = (), 0.0
+        if lateral is not None:
+            profile = max(lateral.cut(state.since), 0.0)
+            try:
+                p = lateral.flange(state.since)
+                flange = (p.height, p.thickness, p.gradient)
+            except ScenarioError:  # worn past measuring: reported as NaN
+                flange = (float("nan"),) * 3
+        c = self.cut.depth(u, profile)
         before = state.mean_diameter
         after = before - 2 * c
         old = u - np.mean(u)
@@ -202,7 +221,7 @@ class Turning:
         if self.base is not None:
             new = new + (self.base - np.mean(self.base))
         record = TurnRecord(state.distance, trigger, float(np.ptp(u)), int(roundness.polygon_spectrum(u)["dominant_order"]),
-                            c, before, after)
+                            c, before, after, 0, flange, profile)
         return WheelState(new, after, state.distance, 0.0, state.turnings + 1), record
 
 
@@ -212,12 +231,14 @@ class Triggers:
     band levels), reached when the largest excess over them reaches 0 dB, ``interval`` (m run
     since the last turning, or None), and ``peak_force`` (N, or None): the peak vertical
     wheel–rail force a wheel-impact-load detector would read at any of ``force_speeds`` (m/s;
-    empty: the scenario's speed), found by the life's ``force`` search."""
+    empty: the scenario's speed), found by the life's ``force`` search; ``flange``
+    (:class:`~railwear.maintenance.lateral.FlangeLimit`), read on the lateral profile."""
 
     limits: tuple = ()
     interval: float | None = None
     peak_force: float | None = None
     force_speeds: tuple = ()
+    flange: tuple = ()
 
     def excess(self, u, diameter):
         """``(excess, which)`` along the rows of ``u`` (m): the largest level above a limit (dB)
@@ -285,13 +306,14 @@ class Policy:
     source: str = ""
     description: str = ""
 
-    def advance(self, state, technique, horizon, resolution, force=None):
+    def advance(self, state, technique, horizon, resolution, force=None, lateral=None):
         """The :class:`Segment` from ``state`` on ``technique`` (a :class:`RateTable` at
         ``state.diameter``) to the first of: a limit reached (located by bisection between scan
         points ``resolution`` m apart), the interval, the peak force (``force(state, technique,
         within)``: the distance in m at which the grown wheel's peak force passes the trigger,
-        ``inf`` if not within ``within`` m), the mean diameter worn to ``D_s``, the ``horizon``
-        (m since new). A state that is not finite before any of them raises
+        ``inf`` if not within ``within`` m), a flange trigger on ``lateral`` (a
+        :class:`~railwear.maintenance.lateral.ProfileWear` worn for ``state.since``), the mean
+        diameter worn to ``D_s``, the ``horizon`` (m since new). A state that is not finite before any of them raises
         :class:`NumericalInstabilityError`."""
         speed, u0, d = technique.speed, state.u, state.diameter
         ends = {HORIZON: max(horizon - state.distance, 0.0)}
@@ -304,6 +326,13 @@ class Policy:
             if force is None:
                 raise ScenarioError(f"policy {self.name}: trigger.peak_force_kN needs the time-domain track (plan)")
             ends[self.triggers.force_name] = float(force(state, technique, min(ends.values())))
+        if self.triggers.flange:
+            if lateral is None:
+                raise ScenarioError(f"policy {self.name}: a flange trigger needs the lateral profile (plan)")
+            within = min(ends.values())
+            at = lateral.distance(self.triggers.flange, state.since, within)
+            if at <= within:
+                ends[lateral.which(self.triggers.flange, state.since + at)] = at
         reason = min(ends, key=lambda k: (ends[k], k != WORN))
         end = ends[reason]
         names = self.triggers.names()
@@ -347,11 +376,12 @@ class Policy:
             return grid[grid < hi], float(hi), int(which[0])
         return grid, None, 0
 
-    def life(self, start, technique_at, horizon, resolution=500 * KM, force=None):
+    def life(self, start, technique_at, horizon, resolution=500 * KM, force=None, lateral=None):
         """The :class:`Life` from ``start`` (a :class:`WheelState`): segments on
         ``technique_at(diameter)`` (a :class:`RateTable`), turning at each trigger (``force``:
-        the peak-force search of :meth:`advance`), until the wheel is scrapped or the ``horizon``
-        (m since new) is reached."""
+        the peak-force search of :meth:`advance`; ``lateral``: the lateral profile of the flange
+        triggers, restored by each turning), until the wheel is scrapped or the ``horizon`` (m
+        since new) is reached."""
         state, records, starts, history = start, [], [], []
         selected = None
         while True:
@@ -360,11 +390,11 @@ class Policy:
                 selected = technique.selected_order()
             else:
                 records[-1] = replace(records[-1], selected_order=technique.selected_order())
-            segment = self.advance(state, technique, horizon, resolution, force)
+            segment = self.advance(state, technique, horizon, resolution, force, lateral)
             history.append(segment.history)
             reason = segment.reason
             if reason not in (WORN, HORIZON):
-                turned, record = self.turning.apply(segment.state, reason)
+                turned, record = self.turning.apply(segment.state, reason, lateral)
                 if record.after >= self.last_diameter:
                     records.append(record)
                     starts.append(turned)

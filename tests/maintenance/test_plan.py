@@ -89,8 +89,9 @@ def test_bad_options_are_refused_naming_them():
         plan(METRO, ["metro-interval"], growth=(0.5, -1.0))
     with pytest.raises(OptionError, match="samples"):
         plan(METRO, ["metro-interval"], samples=-1)
-    with pytest.raises(ScenarioError, match="body.kind"):
-        plan("wheelset-wear", ["metro-interval"])
+    with pytest.raises(ScenarioError, match="metro-condition: trigger.peak_to_peak_mm: body.kind 'wheelset' has no model "
+                                            "of the polygon's growth"):
+        plan("wheelset-wear", ["metro-condition"])
 
 
 def test_railwear_plan_runs_in_a_fresh_interpreter(tmp_path):
