@@ -299,6 +299,9 @@ def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None
     checkpoint = _output(output) / "checkpoint.npz"
     try:
         sc = None if scenario is None and resume_path is not None else api.load_scenario(scenario, sets, unsets)
+        # forked once the scenario is read, they import matplotlib while this process runs, then draw
+        # while it writes result.nc
+        drawers = plots.fork_drawers() if figures and _state["own_process"] else None
         label = f"railwear {sc.name if sc else 'resume'}"
         with _Warnings() as warned, _Progress(label) as progress:
             if resume_path is None and checkpoint.exists():  # an earlier run's: only the newest resumes
@@ -309,10 +312,12 @@ def _run_and_write(scenario, output, figures, checkpoint_every, resume_path=None
         _fail(str(e), 2)
     except NumericalInstabilityError as e:
         _run_failed(e, output)
+    if drawers is not None:
+        drawers.send(ds, output, fmt, dpi)
     results.write_netcdf(ds, output / "result.nc")
     checkpoint.unlink(missing_ok=True)
     summary = results.write_summary(ds, output)
-    paths = plots.write_figures(ds, output, fmt, dpi, parallel=_state["own_process"]) if figures else []
+    paths = (drawers.wait() if drawers is not None else plots.write_figures(ds, output, fmt, dpi)) if figures else []
     report.write_report(ds, output / report.NAME, paths, warned.caught, _compile_notice["compiled"])
     typer.echo(results.summary_text(summary), nl=False)
     typer.echo(f"wrote {output / 'result.nc'}")

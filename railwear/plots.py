@@ -479,42 +479,127 @@ def save(fig, path, format="png", dpi=DPI):
     return written
 
 
-def write_figures(ds, directory, format="png", dpi=DPI, parallel=False):
+def write_figures(ds, directory, format="png", dpi=DPI):
     """Every figure of a result as ``DIRECTORY/NAME.png`` (and ``.pdf`` or ``.svg`` with
-    ``format``); returns the paths of the requested format. ``parallel``: every other figure is
-    drawn by a forked process at the same time (the command line does this: drawing is most of
-    its time), the same files; where there is no fork, one processor or other threads, in turn."""
-    figures = list(BODY_FIGURES.get(ds.attrs.get("body"), FIGURES).items())
-    paths = [Path(directory) / f"{name}.png" for name, _ in figures]
-
-    def draw(i):
-        return save(figures[i][1](ds), paths[i], format, dpi)
-
-    child = _fork(lambda: [draw(i) for i in range(1, len(figures), 2)]) if parallel and len(figures) > 1 else None
-    if child is None:
-        return [draw(i) for i in range(len(figures))]
-    written = [draw(i) if i % 2 == 0 else paths[i].with_suffix(f".{format}") for i in range(len(figures))]
-    _, status = os.waitpid(child, 0)
-    if status != 0:  # the child failed: draw its figures here, where an error is seen
-        written = [draw(i) if i % 2 else written[i] for i in range(len(figures))]
-    return written
+    ``format``), in turn; returns the paths of the requested format. The command line has them
+    drawn by forked processes instead (:func:`fork_drawers`)."""
+    return [_draw_one(ds, i, directory, format, dpi) for i in range(len(_figures(ds)))]
 
 
-def _fork(work):
-    """Run ``work()`` in a forked child process; its id, or None where that is not safe or useful."""
+def _figures(ds):
+    return list(BODY_FIGURES.get(ds.attrs.get("body"), FIGURES).items())
+
+
+def _draw_one(ds, i, directory, format, dpi):
+    name, make = _figures(ds)[i]
+    return save(make(ds), Path(directory) / f"{name}.png", format, dpi)
+
+
+DRAWERS = 2  # forked drawing processes, each drawing a run of consecutive figures (:func:`_share`)
+
+
+def fork_drawers():
+    """Fork :data:`DRAWERS` processes that import matplotlib now, while this one goes on (the
+    command line calls it before its run: importing matplotlib and drawing were most of a warm
+    ``railwear run``), and then wait for one result to draw (:class:`Drawers`). None where forking
+    is not safe or useful: no fork, one processor, or other threads running."""
     import threading
 
     if not hasattr(os, "fork") or len(os.sched_getaffinity(0)) < 2 or threading.active_count() > 1:
         return None
+    pipes = [os.pipe() for _ in range(DRAWERS)]
     pid = os.fork()
     if pid:
-        return pid
-    try:
-        work()
-        status = 0
-    except BaseException:  # noqa: BLE001  (the parent draws them again and sees the error)
+        for read, _ in pipes:
+            os.close(read)
+        return Drawers(pid, [write for _, write in pipes])
+    status = 1
+    try:  # the first drawer; it forks the others once matplotlib is imported, and waits for them
+        for _, write in pipes:
+            os.close(write)
+        import matplotlib.backends.backend_agg  # noqa: F401
+        import matplotlib.figure  # noqa: F401
+        import matplotlib.ticker  # noqa: F401
+
+        share, others = 0, []
+        for k in range(1, DRAWERS):
+            child = os.fork()
+            if not child:
+                share, others = k, []
+                break
+            others.append(child)
+        for k, (read, _) in enumerate(pipes):
+            if k != share:
+                os.close(read)
+        status = _draw_share(pipes[share][0], share)
+        for child in others:
+            status |= os.waitpid(child, 0)[1] != 0
+    except BaseException:  # noqa: BLE001  (the parent draws the figures again and sees the error)
         status = 1
     os._exit(status)
+
+
+def _draw_share(read, share):
+    """In a drawer: read one pickled ``(ds, directory, format, dpi)`` from the pipe ``read`` and draw
+    its ``share`` of the figures; nothing when the pipe closes empty. Exit status."""
+    import pickle
+
+    with os.fdopen(read, "rb") as pipe:
+        message = pipe.read()
+    if not message:  # the run failed or drew no figures
+        return 0
+    ds, directory, format, dpi = pickle.loads(message)
+    for i in _share(len(_figures(ds)), share):
+        _draw_one(ds, i, directory, format, dpi)
+    return 0
+
+
+def _share(count, k):
+    """The figures drawer ``k`` draws of ``count``: the ``k``-th of :data:`DRAWERS` consecutive runs
+    (the run's four: profiles and evolution, spectrum and polar, about 0.3 s of CPU each)."""
+    return range(k * count // DRAWERS, (k + 1) * count // DRAWERS)
+
+
+class Drawers:
+    """The forked drawers of :func:`fork_drawers`, seen from the process that forked them."""
+
+    def __init__(self, pid, pipes):
+        self.pid, self.pipes, self.job, self.sent = pid, pipes, None, False
+
+    def send(self, ds, directory, format="png", dpi=DPI):
+        """Hand ``ds`` to the drawers; they draw while this process goes on (writing result.nc)."""
+        import pickle
+
+        self.job = (ds, Path(directory), format, dpi)
+        try:
+            message = pickle.dumps((ds, str(directory), format, dpi), protocol=pickle.HIGHEST_PROTOCOL)
+            for write in self.pipes:
+                with os.fdopen(write, "wb", closefd=False) as pipe:
+                    pipe.write(message)
+            self.sent = True
+        except (OSError, pickle.PicklingError, TypeError, AttributeError):  # a drawer is gone: drawn here
+            self.sent = False
+        finally:
+            self.close()
+
+    def close(self):
+        """Close the pipes: drawers still waiting exit without drawing."""
+        for write in self.pipes:
+            try:
+                os.close(write)
+            except OSError:
+                pass
+        self.pipes = []
+
+    def wait(self):
+        """Wait for the drawers; the paths of the figures (all drawn here again if a drawer failed)."""
+        self.close()
+        _, status = os.waitpid(self.pid, 0)
+        ds, directory, format, dpi = self.job
+        figures = _figures(ds)
+        if self.sent and status == 0:
+            return [(directory / f"{name}.png").with_suffix(f".{format}") for name, _ in figures]
+        return [_draw_one(ds, i, directory, format, dpi) for i in range(len(figures))]
 
 
 REGIME_COLOURS = {"stable": "#4daf4a", "smoothing": "#377eb8", "onset": "#ff7f00",
