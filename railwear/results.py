@@ -228,7 +228,11 @@ def _wheels(d, n):
     if "combination_phase" not in d or not n:
         return {}
     at = d.sel(order=n)
-    return {"wheel_positions_m": [float(x) for x in d.wheel_position.values],
+    modes = {}
+    if "rail_mode_held" in d:
+        modes = {"rail_modes_hz": {k: [None if np.isnan(v) else round(float(v), 1) for v in d[f"rail_mode_{k}"].values]
+                                   for k in ("pinned", "clamped", "held")}}
+    return {**modes, "wheel_positions_m": [float(x) for x in d.wheel_position.values],
             "combination": {"order": int(n), "amplitudes": [round(float(a), 4) for a in at.combination_amplitude.values],
                             "phases_deg": [180 - (180 - round(float(np.degrees(p)), 2)) % 360  # in (-180, 180]
                                            for p in at.combination_phase.values]}}
@@ -433,8 +437,14 @@ def run_lines(r):
     if "combination" in r:
         c = r["combination"]
         lines.append(f"wheels at {', '.join(f'{x:g}' for x in r['wheel_positions_m'])} m on one rail: order {c['order']} "
-                     f"grows with their polygons at phases {', '.join(f'{p:.0f}' for p in c['phases_deg'])} deg, "
+                     f"grows with their polygons at phases {', '.join(str(round(p)) for p in c['phases_deg'])} deg, "
                      f"amplitudes {', '.join(f'{a:.2f}' for a in c['amplitudes'])}")
+    if "rail_modes_hz" in r:
+        m, x = r["rail_modes_hz"], r["wheel_positions_m"]
+        bounds = ", ".join(f"{lo:.0f}-{hi:.0f}" for lo, hi in zip(m["pinned"], m["clamped"]))
+        held = ", ".join("-" if h is None else f"{h:.0f}" for h in m["held"])
+        lines.append(f"rail between the wheels at {x[0]:g} and {x[1]:g} m: bending modes at {bounds} Hz (pinned-clamped "
+                     f"span), peaks of the rail they hold {held} Hz")
     if "peak_to_peak_limit_mm" in r:
         reached = (f"reached after {r['limit_distance_km']:,.0f} km" if r["limit_distance_km"] is not None
                    else f"not reached in {r['distance_km']:,.0f} km")

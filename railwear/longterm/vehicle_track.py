@@ -37,6 +37,7 @@ from railwear.dynamics import DiskWheelModel
 from railwear.errors import ScenarioError
 from railwear.longterm.fourier import Fourier, Harmonics, contact_filter, law_terms, stability_map
 from railwear.track import Support, Track, load_offset, rail, receptance, support_set
+from railwear.track.between import localised_modes
 from railwear.units import KM
 from railwear.track.longitudinal import longitudinal_receptance
 
@@ -627,6 +628,18 @@ class WheelsOnRail:
         H = sum(weight * self.transfer_matrix(omega, output, A) for output, weight in terms.items())
         return -c * (contact_filter(n, m.patch_half_length / m.radius) ** 2)[:, None, None] * H
 
+    def rail_modes(self, count=3) -> dict:
+        """The rail's first ``count`` bending modes between the first two wheels [Hz]
+        (:func:`railwear.track.between.localised_modes`: pinned and clamped bounds and the peak of
+        the rail held by these wheels, each wheel and its contact the receptance
+        ``1 / G_u,N + α_modes`` of the wheel on a rigid rail), the first wheel at midspan."""
+        m = self.model
+        if self._x.size < 2:
+            raise ScenarioError("positions: the rail between the wheels needs two wheels")
+        return localised_modes(self.model.track, float(self._x[1] - self._x[0]), count,
+                               wheel_receptance=lambda f: 1 / m.wheel_terms(2 * np.pi * f)[0][:, 0]
+                               + m.wheel_mode_receptance(2 * np.pi * f))
+
     def rates(self, orders, law, band_width):
         """``(λ, modes)``: for each polygon order the growth rates ``λ`` (1/s, complex,
         ``(orders, wheels)``, fastest first) and the combinations ``modes`` (``(orders, wheels,
@@ -668,6 +681,7 @@ class WheelsFourier(Harmonics):
             raise ScenarioError("positions: every part carries the same wheels")
         singles = tuple(Fourier.disk_wheel(p.model, self.law, self.band_width) for p in self.parts)
         object.__setattr__(self, "_singles", singles)
+        object.__setattr__(self, "_cache", {})
 
     @property
     def speed(self):
@@ -693,8 +707,14 @@ class WheelsFourier(Harmonics):
                                 for p, f, w in zip(self.shares, self._singles, self.parts))
 
     def combinations(self, orders):
-        """``(λ, modes)`` of :func:`growing_combinations` on :meth:`rate_matrix`."""
-        return growing_combinations(self.rate_matrix(orders))
+        """``(λ, modes)`` of :func:`growing_combinations` on :meth:`rate_matrix`, kept for the last
+        orders asked (a run's bisection asks for the same ones again and again)."""
+        n = np.atleast_1d(np.asarray(orders, float))
+        key = n.tobytes()
+        if key not in self._cache:
+            self._cache.clear()
+            self._cache[key] = growing_combinations(self.rate_matrix(n))
+        return self._cache[key]
 
     def rates(self, orders):
         """The fastest eigen-rate of each order [1/s, complex]."""
@@ -717,6 +737,14 @@ class WheelsFourier(Harmonics):
         ds["combination_phase"] = (("order", "wheel"), phase,
                                    {"units": "rad", "long_name": "phase of the wheel's polygon in the growing "
                                                                  "combination, against the first wheel"})
+        if len(self.positions) > 1:
+            modes = self.parts[0].rail_modes()
+            ds = ds.assign_coords(rail_mode=("rail_mode", np.arange(1, modes["pinned"].size + 1),
+                                             {"units": "1", "long_name": "rail bending mode between the first two wheels"}))
+            for key, text in (("pinned", "rail span pinned at the two contacts"),
+                              ("clamped", "rail span clamped at the two contacts"),
+                              ("held", "peak of the rail held by the two wheels on the track (NaN: none)")):
+                ds[f"rail_mode_{key}"] = ("rail_mode", modes[key], {"units": "Hz", "long_name": text})
         return ds
 
 

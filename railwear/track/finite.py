@@ -28,10 +28,11 @@ def _end_force_maps(track: Track):
     return np.array([[0.0, -S], [0.0, 0.0]], dtype=complex), np.array([[S, 0.0], [0.0, EI]], dtype=complex)
 
 
-def span_dynamic_stiffness(track: Track, omega, length: float) -> np.ndarray:
-    """Exact dynamic stiffness (n, 4, 4) of a free rail span of ``length`` [m]: end forces
-    ``(Q_a, M_a, Q_b, M_b)`` from end displacements ``(w_a, θ_a, w_b, θ_b)``."""
-    P = _span(system_matrix(track, np.asarray(omega, dtype=float)), length)
+def span_dynamic_stiffness(track: Track, omega, length: float, foundation=None) -> np.ndarray:
+    """Exact dynamic stiffness (n, 4, 4) of a rail span of ``length`` [m], free or on a
+    ``foundation`` per metre [N/m², one per frequency]: end forces ``(Q_a, M_a, Q_b, M_b)`` from
+    end displacements ``(w_a, θ_a, w_b, θ_b)``."""
+    P = _span(system_matrix(track, np.asarray(omega, dtype=float), foundation), length)
     G, H = _end_force_maps(track)
     Puu, Pur, Pru, Prr = P[:, :2, :2], P[:, :2, 2:], P[:, 2:, :2], P[:, 2:, 2:]
     X = np.linalg.inv(Pur)

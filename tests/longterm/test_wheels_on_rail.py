@@ -130,8 +130,11 @@ def test_a_bogie_run_takes_the_fastest_combination_and_names_it(metro):
     phases, amplitudes = run["combination"]["phases_deg"], run["combination"]["amplitudes"]
     assert phases[0] == 0.0 and abs(abs(phases[1]) - 180.0) < 0.5  # measured -179.87: 2.5 m is not whole bays
     np.testing.assert_allclose(amplitudes, [1.0, 1.0], atol=1e-2)
-    assert "wheels at 0, 2.5 m on one rail: order 8 grows with their polygons at phases 0, -180 deg" in \
-        results.summary_text(results.summary(ds))
+    text = results.summary_text(results.summary(ds))
+    assert "wheels at 0, 2.5 m on one rail: order 8 grows with their polygons at phases 0, -180 deg" in text
+    modes = WheelsOnRail(model, (0.0, 2.5)).rail_modes()
+    np.testing.assert_array_equal(ds.rail_mode_clamped.values, modes["clamped"])
+    assert "rail between the wheels at 0 and 2.5 m: bending modes at 226-270, 368-469, 656-770 Hz" in text
 
 
 def test_the_wheels_growth_map_of_one_wheel_is_the_growth_map():
