@@ -55,8 +55,18 @@ def _csv(rows):
     return "\n".join(lines) + "\n"
 
 
+def _lateral(ds):
+    """Whether the plan ran on a lateral profile (flange triggers, the design profile restored)."""
+    return "profile_wear_rate" in ds
+
+
+FLANGE_COLUMNS = (("flange_height_mm", "flange_height_at_turning"), ("flange_thickness_mm", "flange_thickness_at_turning"),
+                  ("flange_gradient_mm", "flange_gradient_at_turning"), ("profile_cut_mm", "profile_cut"))
+
+
 def turning_rows(ds):
-    """One row per turning of every life."""
+    """One row per turning of every life (with a lateral profile: Sh, Sd, qR before the cut and
+    the share of the cut that restores the design profile)."""
     rows = []
     for (p, name) in enumerate(ds.policy.values):
         for g, growth in enumerate(ds.growth.values):
@@ -70,6 +80,8 @@ def turning_rows(ds):
                                  "dominant_order": int(t.dominant_order), "cut_mm": float(t.cut_depth) / MM,
                                  "diameter_before_mm": float(t.diameter_before) / MM,
                                  "diameter_after_mm": float(t.diameter_after) / MM, "selected_order": int(t.selected_order)})
+                    if _lateral(ds):
+                        rows[-1].update({column: float(t[name]) / MM for column, name in FLANGE_COLUMNS})
     return rows
 
 
@@ -92,11 +104,19 @@ def report(ds):
                      + (f"scrapped after {_km(float(life.distance_to_scrap))} km ({life.end_reason.values}) at "
                         f"{float(life.final_diameter) / MM:.1f} mm" if np.isfinite(float(life.distance_to_scrap)) else
                         f"not scrapped within the horizon of {a['horizon_km']:,.0f} km")
-                     + f"; the new wheel selects order {int(life.selected_order_new)}")
-        if int(life.turnings):
+                     + (f"; the new wheel selects order {int(life.selected_order_new)}" if not _lateral(ds) else ""))
+        if int(life.turnings) and _lateral(ds):
+            lines.append("  turning  distance (km)  Sh, Sd, qR before (mm)  cut (mm)  profile's (mm)  diameter (mm)  trigger")
+        elif int(life.turnings):
             lines.append("  turning  distance (km)  p-p before (mm)  order  cut (mm)  diameter (mm)    order after  trigger")
         for k in range(int(life.turnings)):
             t = life.isel(turning=k)
+            if _lateral(ds):
+                flange = ", ".join(f"{float(t[name]) / MM:.2f}" for _, name in FLANGE_COLUMNS[:3])
+                lines.append(f"  {k + 1:7d}  {float(t.turning_distance):13,.0f}  {flange:>22}  {float(t.cut_depth) / MM:8.2f}  "
+                             f"{float(t.profile_cut) / MM:14.2f}  {float(t.diameter_before) / MM:6.1f} -> "
+                             f"{float(t.diameter_after) / MM:5.1f}  {t.trigger.values}")
+                continue
             lines.append(f"  {k + 1:7d}  {float(t.turning_distance):13,.0f}  {float(t.peak_to_peak_at_turning) / MM:15.3f}  "
                          f"{int(t.dominant_order):5d}  {float(t.cut_depth) / MM:8.2f}  "
                          f"{float(t.diameter_before) / MM:6.1f} -> {float(t.diameter_after) / MM:5.1f}  "
@@ -134,20 +154,24 @@ def figure(ds):
         life = ds.isel(policy=p, growth=g, wheel=0)
         keep = np.isfinite(life.history_distance.values)
         x = life.history_distance.values[keep] / 1e3
-        ax.plot(x, life.history_peak_to_peak.values[keep] / MM, color="C0", lw=1, label="peak to peak")
         k = int(life.turnings)
         at = life.turning_distance.values[:k] / 1e3
-        ax.plot(at, life.peak_to_peak_at_turning.values[:k] / MM, "v", color="C3", ms=6,
-                label=f"turning ({k})")
-        limit = float(ds.peak_to_peak_limit[p])
-        if np.isfinite(limit):
-            ax.axhline(limit / MM, color="C3", ls="--", lw=0.8, label=f"trigger {limit / MM:g} mm")
         scrap = float(life.distance_to_scrap)
         ax.set_title(f"{name}: wheel 0 at growth x{growth:g}, "
-                     + (f"scrapped after {_km(scrap)} km" if np.isfinite(scrap) else "not scrapped"), pad=22)
-        ax.set_ylabel("peak to peak (mm)")
-        top = np.nanmax(life.history_peak_to_peak.values[keep]) / MM
-        ax.set_ylim(0, 1.1 * max(top, limit / MM if np.isfinite(limit) else 0))
+                     + (f"scrapped after {_km(scrap)} km" if np.isfinite(scrap) else "not scrapped"),
+                     pad=50 if _lateral(ds) else 22)  # the flange's legend takes three rows
+        if _lateral(ds):
+            _flange_panel(ax, ds, life, p, keep, at)
+        else:
+            ax.plot(x, life.history_peak_to_peak.values[keep] / MM, color="C0", lw=1, label="peak to peak")
+            ax.plot(at, life.peak_to_peak_at_turning.values[:k] / MM, "v", color="C3", ms=6,
+                    label=f"turning ({k})")
+            limit = float(ds.peak_to_peak_limit[p])
+            if np.isfinite(limit):
+                ax.axhline(limit / MM, color="C3", ls="--", lw=0.8, label=f"trigger {limit / MM:g} mm")
+            ax.set_ylabel("peak to peak (mm)")
+            top = np.nanmax(life.history_peak_to_peak.values[keep]) / MM
+            ax.set_ylim(0, 1.1 * max(top, limit / MM if np.isfinite(limit) else 0))
         right = ax.twinx()
         d = life.history_diameter.values[keep] / MM
         right.plot(x, d, color="C2", lw=1.2, label="mean diameter")
@@ -158,7 +182,7 @@ def figure(ds):
         right.set_ylabel("mean diameter (mm)", color="C2")
         right.tick_params(axis="y", colors="C2")
         handles = ax.get_legend_handles_labels()[0] + right.get_legend_handles_labels()[0]
-        ax.legend(handles=handles, fontsize="small", loc="lower left", bbox_to_anchor=(0, 1.0), ncol=len(handles),
+        ax.legend(handles=handles, fontsize="small", loc="lower left", bbox_to_anchor=(0, 1.0), ncol=len(handles) if len(handles) <= 5 else 4,
                   frameon=False, borderaxespad=0.1, handlelength=1.5, columnspacing=1.0)
         ax.xaxis.set_major_formatter(lambda v, _: f"{v:,.0f}")
         ax.set_xlim(left=0)
@@ -182,6 +206,28 @@ def figure(ds):
     ax.set(ylabel="distance to scrap (10⁶ km)", title="distance to scrap by policy and growth multiplier")
     ax.legend(fontsize="small", loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
     return fig
+
+
+FLANGE_LINES = (("flange_height", "Sh", "flange_height_max", "C0"), ("flange_thickness", "Sd", "flange_thickness_min", "C1"),
+                ("flange_gradient", "qR", "flange_gradient_min", "C4"))
+
+
+def _flange_panel(ax, ds, life, p, keep, at):
+    """Sh, Sd and qR (mm) of wheel 0 over distance, the policy's flange triggers dashed, the turnings
+    marked on Sd."""
+    for name, label, limit, colour in FLANGE_LINES:
+        values = life[f"history_{name}"].values[keep]
+        shown = np.isfinite(values)
+        ax.plot(life.history_distance.values[keep][shown] / 1e3, values[shown] / MM, color=colour, lw=1, label=label)
+        value = float(ds[limit][p])
+        if np.isfinite(value):
+            ax.axhline(value / MM, color=colour, ls="--", lw=0.8, label=f"{label} trigger {value / MM:g} mm")
+    k = at.size
+    ax.plot(at, life.flange_thickness_at_turning.values[:k] / MM, "v", color="C3", ms=6, label=f"turning ({k})")
+    ax.set_ylabel("flange parameter (mm)")
+    top = max(np.nanmax(np.concatenate([life[f"history_{n}"].values[keep] for n, *_ in FLANGE_LINES] + [[0.0]])),
+              np.nanmax(np.r_[[float(ds[limit][p]) for _, _, limit, _ in FLANGE_LINES], 0.0]))
+    ax.set_ylim(0, 1.12 * top / MM)
 
 
 def policy_rows(ds):

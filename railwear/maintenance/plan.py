@@ -310,6 +310,25 @@ def _life_values(life, diameter):
             k / reached * 1e6 if reached > 0 else np.nan)
 
 
+FLANGE_HISTORY = 33  # points per segment at which wheel 0's flange parameters are measured for the history
+
+
+def _flange_history(life, wear):
+    """Sh, Sd, qR (m) of wheel 0 along ``life.history``: measured at :data:`FLANGE_HISTORY` points
+    of each segment (its ends included) on ``wear`` aged since the segment's start, NaN between."""
+    distance = life.history[0]
+    out = np.full((3, distance.size), np.nan)
+    starts = np.concatenate([[0], np.flatnonzero(np.diff(distance) == 0) + 1, [distance.size]])
+    for a, b in zip(starts[:-1], starts[1:]):
+        for i in np.unique(np.linspace(a, b - 1, FLANGE_HISTORY).round().astype(int)):
+            try:
+                f = wear.flange(distance[i] - distance[a])
+            except ScenarioError:  # worn past measuring
+                continue
+            out[:, i] = f.height, f.thickness, f.gradient
+    return out
+
+
 def dataset(scenario, files, policies, growth, lives, speed, load, friction, options):
     """The plan as an ``xarray.Dataset`` over ``policy`` × ``growth`` × ``wheel`` (× ``turning``;
     the history of wheel 0 over ``point``)."""
@@ -329,7 +348,7 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
     turn_int = {name: np.zeros(shape + (k_max,), int) for name in ("dominant", "selected")}
     triggers = np.full(shape + (k_max,), "", object)
     points = max(life.history[0].size for (p, g, w), life in lives.items() if w == 0)
-    history = {name: np.full((n_p, n_g, points), np.nan) for name in ("distance", "ptp", "diameter")}
+    history = {name: np.full((n_p, n_g, points), np.nan) for name in ("distance", "ptp", "diameter", *_FLANGE_FLOATS[:3])}
     for (p, g, w), life in lives.items():
         for name, value in zip(per_life, _life_values(life, diameter)):
             per_life[name][p, g, w] = value
@@ -344,6 +363,11 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
             n = life.history[0].size
             history["distance"][p, g, :n] = life.history[0] / KM
             history["ptp"][p, g, :n], history["diameter"][p, g, :n] = life.history[1], life.history[2]
+            if wear is not None:
+                for name, values in zip(_FLANGE_FLOATS, _flange_history(life, wear.scaled(growth[g]))):
+                    history[name][p, g, :n] = values
+    if wear is not None:  # no polygon model: no order is selected
+        selected_new[:], turn_int["selected"][:] = 0, 0
     scrap = per_life["scrap"]
     dims, tdims = ("policy", "growth", "wheel"), ("policy", "growth", "wheel", "turning")
     variables = {
@@ -355,14 +379,14 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
         "distance_per_mm": (dims, per_life["per_mm"], {"units": "km mm-1", "long_name": "distance run per mm of diameter used"}),
         "turnings_per_million_km": (dims, per_life["rate"], {"units": "1", "long_name": "turnings per 10^6 km"}),
         "end_reason": (dims, reasons.astype(str), {"long_name": "why the life ended"}),
-        "selected_order_new": (dims, selected_new, {"units": "1", "long_name": "fastest-growing order of the new wheel"}),
+        "selected_order_new": (dims, selected_new, {"units": "1", "long_name": "fastest-growing order of the new wheel (0: no polygon model)"}),
         "turning_distance": (tdims, turn["distance"], {"units": "km", "long_name": "distance at the turning (NaN: none)"}),
         "cut_depth": (tdims, turn["cut"], {"units": "m", "long_name": "cut depth on the radius"}),
         "diameter_before": (tdims, turn["before"], {"units": "m", "long_name": "mean diameter before the turning"}),
         "diameter_after": (tdims, turn["after"], {"units": "m", "long_name": "diameter after the turning"}),
         "peak_to_peak_at_turning": (tdims, turn["ptp"], {"units": "m", "long_name": "peak-to-peak radius deviation before the cut"}),
         "dominant_order": (tdims, turn_int["dominant"], {"units": "1", "long_name": "dominant order before the cut (0: no turning)"}),
-        "selected_order": (tdims, turn_int["selected"], {"units": "1", "long_name": "fastest-growing order at the new diameter (0: no turning)"}),
+        "selected_order": (tdims, turn_int["selected"], {"units": "1", "long_name": "fastest-growing order at the new diameter (0: no turning, or no polygon model)"}),
         "trigger": (tdims, triggers.astype(str), {"long_name": "what asked for the turning"}),
         **{f"{name}_at_turning": (tdims, turn[name], {"units": "m", "long_name": f"{label} before the cut, EN 15313 "
                                                        "(NaN: no lateral profile)"})
@@ -393,6 +417,11 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
     }
     coords = {}
     if wear is not None:
+        for name, label in (("flange_height", "flange height Sh"), ("flange_thickness", "flange thickness Sd"),
+                            ("flange_gradient", "flange gradient qR")):
+            variables[f"history_{name}"] = (("policy", "growth", "point"), history[name], {
+                "units": "m", "long_name": f"{label}, wheel 0 (EN 15313; measured at {FLANGE_HISTORY} points a segment, "
+                                           "NaN between)"})
         variables["profile_wear_rate"] = (("lateral",), wear.rate * KM, {
             "units": "m km-1", "long_name": "depth of the lateral profile worn per km run", "source": wear.source})
         coords["lateral"] = ("lateral", wear.lateral, {"units": "m", "long_name": "lateral position on the wheel profile"})

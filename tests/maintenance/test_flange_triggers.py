@@ -157,6 +157,11 @@ def test_the_flange_plan_is_deterministic_and_reports_each_turning(flange_plan):
     assert np.isnan(float(flange_plan.flange_thickness_min.sel(policy="metro-interval")))
     assert "lateral profile's wear rate" in flange_plan.attrs["growth_band"]
     assert flange_plan.profile_wear_rate.attrs["units"] == "m km-1" and float(flange_plan.profile_wear_rate.max()) > 0
+    # the history starts from the new S1002 (Sd 32.5 mm) and meets the turning's values before each cut
+    assert float(ds.history_flange_thickness[0]) == pytest.approx(32.5 * MM, abs=0.1 * MM)
+    at = ds.history_distance.values == float(ds.turning_distance[0])
+    assert float(ds.flange_thickness_at_turning[0]) in ds.history_flange_thickness.values[at]
+    assert np.all(ds.selected_order.values == 0) and int(ds.selected_order_new) == 0  # no polygon model
 
 
 def test_a_killed_flange_plan_resumes_from_its_file_to_the_same_lives(flange_plan, tmp_path):
@@ -184,6 +189,8 @@ def test_railwear_plan_with_a_flange_policy_runs_in_a_fresh_interpreter(tmp_path
     ds = read_netcdf(tmp_path / "out" / "plan.nc")
     assert float(ds.flange_thickness_min.squeeze()) == pytest.approx(22 * MM)
     assert "flange_thickness_at_turning" in ds and "profile_wear_rate" in ds
+    assert "Sh, Sd, qR before (mm)" in (tmp_path / "out" / "plan.txt").read_text()
+    assert "flange_thickness_mm" in (tmp_path / "out" / "turnings.csv").read_text().splitlines()[0]
     flange = tmp_path / "flange.toml"
     flange.write_text('name = "f"\nsource = "an example"\n[trigger]\nflange_thickness_min_mm = 22.0\n'
                       '[wheel]\nlast_turning_diameter_mm = 770.0\n')
