@@ -687,9 +687,11 @@ def forecast(
 @app.command("plan")
 def plan_policies(
     scenario: Annotated[Optional[str], typer.Argument(help="scenario file or built-in name whose body gives a "
-                                                           "linear model (the Fourier technique; default metro)")] = None,
+                                                           "linear model (the Fourier technique; default metro) or "
+                                                           "simulates the lateral profile (wheelset)")] = None,
     policy: Annotated[list[str], typer.Option("--policy", help="policy TOML file or built-in name (metro-interval, "
-                                                               "metro-condition, metro-noise); repeat to compare")] = [],
+                                                               "metro-condition, metro-noise, wheelset-flange); repeat "
+                                                               "to compare")] = [],
     samples: Annotated[int, typer.Option(help="wheels drawn from the scenario's [service] besides wheel 0 "
                                               "(0: the one wheel of the scenario's conditions)")] = 0,
     seed: Annotated[Optional[int], typer.Option(help="seed of the draw (default: the scenario's service.seed)")] = None,
