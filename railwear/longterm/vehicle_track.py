@@ -630,15 +630,12 @@ class WheelsOnRail:
 
     def rail_modes(self, count=3) -> dict:
         """The rail's first ``count`` bending modes between the first two wheels [Hz]
-        (:func:`railwear.track.between.localised_modes`: pinned and clamped bounds and the peak of
-        the rail held by these wheels, each wheel and its contact the receptance
-        ``1 / G_u,N + α_modes`` of the wheel on a rigid rail), the first wheel at midspan."""
-        m = self.model
+        (:func:`railwear.track.between.localised_modes`: the pinned and clamped span as bounds,
+        and the peak of the rail held by the two wheels, taken rigid so that the wheel's own modes
+        do not mix in), the first wheel at midspan."""
         if self._x.size < 2:
             raise ScenarioError("positions: the rail between the wheels needs two wheels")
-        return localised_modes(self.model.track, float(self._x[1] - self._x[0]), count,
-                               wheel_receptance=lambda f: 1 / m.wheel_terms(2 * np.pi * f)[0][:, 0]
-                               + m.wheel_mode_receptance(2 * np.pi * f))
+        return localised_modes(self.model.track, float(self._x[1] - self._x[0]), count)
 
     def rates(self, orders, law, band_width):
         """``(λ, modes)``: for each polygon order the growth rates ``λ`` (1/s, complex,

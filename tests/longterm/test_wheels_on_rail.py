@@ -174,3 +174,16 @@ def test_railwear_run_on_a_bogie_file(tmp_path):
                           str(tmp_path / "bad")], capture_output=True, text=True, timeout=120)
     assert bad.returncode == 2 and "body.wheel_positions_m" in bad.stderr
     assert len(bad.stderr.strip().splitlines()) == 1 and "Traceback" not in bad.stderr
+
+
+def test_the_high_speed_wheelbase_row_is_in_the_docs():
+    """docs/vehicle_track.md's wheelbase table holds docs/wheelbase_high_speed.py's 2.5 m row (the
+    fastest order 24 on the 300 km/h line, the held third rail mode at 682 Hz, 23.7 orders)."""
+    import runpy
+    from pathlib import Path
+
+    docs = Path(__file__).resolve().parents[2] / "docs"
+    script = runpy.run_path(str(docs / "wheelbase_high_speed.py"))
+    row = script["wheelbase_row"](2.5)[0]
+    assert row.startswith("| 2.5 | 24 |") and "| 682 | 23.7 / 28.9 | yes |" in row
+    assert row in (docs / "vehicle_track.md").read_text(encoding="utf-8")
