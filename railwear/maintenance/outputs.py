@@ -101,7 +101,10 @@ def report(ds):
         life = ds.isel(policy=p, growth=g, wheel=0)
         k = int(life.turnings)
         lines.append(f"policy {name}, growth x{growth:g}, wheel 0: {k} turning{'' if k == 1 else 's'}, "
-                     + (f"scrapped after {_km(float(life.distance_to_scrap))} km ({life.end_reason.values}) at "
+                     + (f"scrapped after {_km(float(life.distance_to_scrap))} km ({life.end_reason.values}"
+                        + (f", asked by {life.end_trigger.values}" if "end_trigger" in life and str(life.end_trigger.values)
+                           else "")
+                        + ") at "
                         f"{float(life.final_diameter) / MM:.1f} mm" if np.isfinite(float(life.distance_to_scrap)) else
                         f"not scrapped within the horizon of {a['horizon_km']:,.0f} km")
                      + (f"; the new wheel selects order {int(life.selected_order_new)}" if not _lateral(ds) else ""))

@@ -277,7 +277,7 @@ class PlanCheckpoint:
                 f"{i}_u": np.stack([s.u for s in states]),
                 f"{i}_states": np.array([[getattr(s, f) for f in _STATE_FLOATS] for s in states], float),
                 f"{i}_turned": np.array([s.turnings for s in states], np.int64),
-                f"{i}_end": np.array([life.reason]), f"{i}_selected": np.array(life.selected_order, np.int64),
+                f"{i}_end": np.array([life.reason]), f"{i}_asked": np.array([life.asked]), f"{i}_selected": np.array(life.selected_order, np.int64),
                 **{f"{i}_history{j}": np.asarray(h) for j, h in enumerate(life.history)}})
         return out
 
@@ -295,7 +295,8 @@ class PlanCheckpoint:
             states = tuple(WheelState(u, *map(float, f), int(n))
                            for u, f, n in zip(data[f"{i}_u"], data[f"{i}_states"], data[f"{i}_turned"]))
             lives[k] = Life(records, states[:-1], states[-1], str(data[f"{i}_end"][0]), int(data[f"{i}_selected"]),
-                            tuple(np.asarray(data[f"{i}_history{j}"]) for j in range(3)))
+                            tuple(np.asarray(data[f"{i}_history{j}"]) for j in range(3)),
+                            str(data[f"{i}_asked"][0]) if f"{i}_asked" in data else "")
         return cls(str(data["fingerprint"]), lives)
 
 
@@ -342,7 +343,7 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
     shape = (n_p, n_g, n_w)
     k_max = max([len(life.turnings) for life in lives.values()] + [1])
     per_life = {name: np.full(shape, np.nan) for name in ("scrap", "reached", "turnings", "final", "per_mm", "rate")}
-    reasons, selected_new = np.empty(shape, object), np.zeros(shape, int)
+    reasons, selected_new, asked = np.empty(shape, object), np.zeros(shape, int), np.full(shape, "", object)
     turn = {name: np.full(shape + (k_max,), np.nan) for name in ("distance", "cut", "before", "after", "ptp",
                                                                  *_FLANGE_FLOATS)}
     turn_int = {name: np.zeros(shape + (k_max,), int) for name in ("dominant", "selected")}
@@ -352,7 +353,7 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
     for (p, g, w), life in lives.items():
         for name, value in zip(per_life, _life_values(life, diameter)):
             per_life[name][p, g, w] = value
-        reasons[p, g, w], selected_new[p, g, w] = life.reason, life.selected_order
+        reasons[p, g, w], selected_new[p, g, w], asked[p, g, w] = life.reason, life.selected_order, life.asked
         for k, r in enumerate(life.turnings):
             for name, value in (("distance", r.distance / KM), ("cut", r.cut), ("before", r.before), ("after", r.after),
                                 ("ptp", r.peak_to_peak), *zip(_FLANGE_FLOATS, _flange_values(r))):
@@ -379,6 +380,8 @@ def dataset(scenario, files, policies, growth, lives, speed, load, friction, opt
         "distance_per_mm": (dims, per_life["per_mm"], {"units": "km mm-1", "long_name": "distance run per mm of diameter used"}),
         "turnings_per_million_km": (dims, per_life["rate"], {"units": "1", "long_name": "turnings per 10^6 km"}),
         "end_reason": (dims, reasons.astype(str), {"long_name": "why the life ended"}),
+        "end_trigger": (dims, asked.astype(str), {"long_name": "the trigger that asked for the cut the wheel could not "
+                                                  "take (empty: another end)"}),
         "selected_order_new": (dims, selected_new, {"units": "1", "long_name": "fastest-growing order of the new wheel (0: no polygon model)"}),
         "turning_distance": (tdims, turn["distance"], {"units": "km", "long_name": "distance at the turning (NaN: none)"}),
         "cut_depth": (tdims, turn["cut"], {"units": "m", "long_name": "cut depth on the radius"}),

@@ -279,8 +279,9 @@ class Life:
     """A wheel's life: its ``turnings`` (:class:`TurnRecord`), the ``starts`` after each of them
     (:class:`WheelState`; a life resumed from one is the rest of this one bit for bit), the
     ``end`` state, why it ended (``reason``: :data:`WORN`, :data:`BELOW` or :data:`HORIZON`), the
-    order the wheel it started from selects (``selected_order``) and the ``history`` (distance m,
-    peak to peak m, mean diameter m)."""
+    order the wheel it started from selects (``selected_order``), the ``history`` (distance m,
+    peak to peak m, mean diameter m) and, ended :data:`BELOW`, the trigger that ``asked`` for the
+    cut ("" otherwise)."""
 
     turnings: tuple
     starts: tuple
@@ -288,6 +289,7 @@ class Life:
     reason: str
     selected_order: int
     history: tuple
+    asked: str = ""
 
     @property
     def scrapped(self):
@@ -392,7 +394,7 @@ class Policy:
                 records[-1] = replace(records[-1], selected_order=technique.selected_order())
             segment = self.advance(state, technique, horizon, resolution, force, lateral)
             history.append(segment.history)
-            reason = segment.reason
+            reason = asked = segment.reason
             if reason not in (WORN, HORIZON):
                 turned, record = self.turning.apply(segment.state, reason, lateral)
                 if record.after >= self.last_diameter:
@@ -402,7 +404,8 @@ class Policy:
                     continue
                 reason = BELOW
             joined = tuple(np.concatenate([h[i] for h in history]) for i in range(3))
-            return Life(tuple(records), tuple(starts), segment.state, reason, selected, joined)
+            return Life(tuple(records), tuple(starts), segment.state, reason, selected, joined,
+                        asked if reason == BELOW else "")
 
 
 def evolve_batch(spectra, rates, slope, points, s):

@@ -99,6 +99,7 @@ def test_a_flank_worn_at_a_linear_rate_is_turned_where_sd_reaches_its_limit_and_
     assert [t.flange[1] for t in life.turnings] == pytest.approx([sd0 - 1 * MM] * 5, abs=1e-9)
     assert [t.after for t in life.turnings] == pytest.approx(0.92 - 4 * MM * np.arange(1, 6), abs=1e-12)
     assert life.reason == BELOW and life.end.distance == pytest.approx(6 * s_star, rel=1e-6)
+    assert life.asked == limit.name  # the sixth turning was asked for by the flange, and refused
 
 
 def test_a_tread_worn_at_a_linear_rate_is_turned_where_sh_reaches_its_limit_at_the_least_cut():
@@ -190,6 +191,9 @@ def test_railwear_plan_with_a_flange_policy_runs_in_a_fresh_interpreter(tmp_path
     assert float(ds.flange_thickness_min.squeeze()) == pytest.approx(22 * MM)
     assert "flange_thickness_at_turning" in ds and "profile_wear_rate" in ds
     assert "Sh, Sd, qR before (mm)" in (tmp_path / "out" / "plan.txt").read_text()
+    fast = ds.sel(policy="wheelset-flange", growth=20.0, wheel=0)  # the hollow tread asks a cut the wheel lacks
+    assert str(fast.end_reason.values) == BELOW and str(fast.end_trigger.values) != ""
+    assert str(ds.end_trigger.sel(policy="wheelset-flange", growth=1.0, wheel=0).values) == ""  # worn to D_s
     assert "flange_thickness_mm" in (tmp_path / "out" / "turnings.csv").read_text().splitlines()[0]
     flange = tmp_path / "flange.toml"
     flange.write_text('name = "f"\nsource = "an example"\n[trigger]\nflange_thickness_min_mm = 22.0\n'
