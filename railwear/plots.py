@@ -25,6 +25,30 @@ def _figure(width, height, rows=1):
     return fig, fig.subplots(rows, 1, squeeze=False)[:, 0]
 
 
+def _fixed_figure(width, height):
+    """A Figure without a layout engine: its axes are placed by :func:`_grid` from margins in inches.
+    Used for the figures of every ``railwear run``, where constrained layout (which measures every
+    text of the figure twice a draw) was a quarter of the drawing time."""
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(width, height))
+
+
+def _margins(fig, rows, cols, left, right, top, bottom, hgap=0.0, wgap=0.0):
+    """``subplots_adjust`` keywords for a ``rows`` x ``cols`` grid on ``fig`` with margins and gaps
+    between cells given in inches (the room the labels, titles and ticks beside them need)."""
+    width, height = fig.get_size_inches()
+    cell_h = (height - top - bottom - (rows - 1) * hgap) / rows
+    cell_w = (width - left - right - (cols - 1) * wgap) / cols
+    return dict(left=left / width, right=1 - right / width, top=1 - top / height, bottom=bottom / height,
+                hspace=hgap / cell_h, wspace=wgap / cell_w)
+
+
+def _grid(fig, rows, cols, left, right, top, bottom, hgap=0.0, wgap=0.0, **ratios):
+    """A GridSpec on ``fig`` placed by :func:`_margins`; ``ratios``: ``height_ratios``, ``width_ratios``."""
+    return fig.add_gridspec(rows, cols, **_margins(fig, rows, cols, left, right, top, bottom, hgap, wgap), **ratios)
+
+
 def _rows(ds):
     """``(label, dataset)`` per batch row."""
     batch = [d for d in ds.u.dims if d not in ("time", "angle")]
@@ -65,10 +89,12 @@ def profiles(ds):
     ends = np.concatenate([c[1] for c in curves])
     shape_span = max(max(np.ptp(c - c.mean()) for c in pair) for pair in curves) or 1.0
     broken = max(abs(x) for x in drops) > BREAK * shape_span
-    fig = _plain_figure(7, 7 if broken else 6.5)
-    if broken:
-        top_start, top_end, shape = fig.subplots(3, 1, height_ratios=[1, 1, 2.1])
-        fig.get_layout_engine().set(h_pad=0.02, hspace=0.0)
+    fig = _fixed_figure(7, 7 if broken else 6.5)
+    margins = dict(left=0.85, right=0.2, top=0.35, bottom=0.5)
+    if broken:  # the bands 0.1 in apart; a spacer row for the lower band's label and the shape's title
+        band = (7 - 0.85 - 3 * 0.1 - 0.75) / 4.1
+        grid = _grid(fig, 4, 1, hgap=0.1, height_ratios=[band, band, 0.75, 2.1 * band], **margins)
+        top_start, top_end, shape = (fig.add_subplot(grid[k]) for k in (0, 1, 3))
         bands = [top_start, top_end]
         span = max(np.ptp(starts), np.ptp(ends), shape_span)
         height = 1.7 * span  # one µm scale in both bands; the curves in the lower part, the legend above
@@ -82,7 +108,8 @@ def profiles(ds):
         top_start.plot([0, 1], [0, 0], transform=top_start.transAxes, **cut)
         top_end.plot([0, 1], [1, 1], transform=top_end.transAxes, **cut)
     else:
-        top, shape = fig.subplots(2, 1)
+        grid = _grid(fig, 2, 1, hgap=0.85, **margins)
+        top, shape = fig.add_subplot(grid[0]), fig.add_subplot(grid[1])
         bands = [top]
     for i, ((label, _), (start, end)) in enumerate(zip(rows, curves)):
         colour = f"C{i % 10}"
@@ -124,8 +151,10 @@ def evolution(ds, orders=6):
     from railwear.geometry import bands
 
     rows = _rows(ds)
-    fig = _plain_figure(11, min(2.6 + 2.6 * len(rows), 14))
-    axes = fig.subplots(len(rows), 2, squeeze=False, width_ratios=[1.15, 1])
+    fig = _fixed_figure(11, min(2.6 + 2.6 * len(rows), 14))
+    axes = fig.subplots(len(rows), 2, squeeze=False, gridspec_kw={"width_ratios": [1.15, 1]})
+    fig.subplots_adjust(**_margins(fig, len(rows), 2, left=1.0, right=0.35, top=0.75, bottom=0.55, hgap=0.85,
+                                   wgap=1.25))
     along = ds.distance.values if "distance" in ds.coords else ds.time.values
     along_label = "distance (km)" if "distance" in ds.coords else "normed time"
     for (ax, amp_ax), (label, d) in zip(axes, rows):
@@ -218,7 +247,10 @@ def spectrum(ds, diameter=None, limit=None):
 
     d_wheel, origin = _wheel_diameter(ds, diameter)
     limit = _limit(limit)
-    fig, (ax, band_ax) = _figure(7.5, 8, rows=2)
+    fig = _fixed_figure(7.5, 8)
+    ax, band_ax = fig.subplots(2, 1)
+    margins = dict(left=0.9, right=0.3, top=0.85, hgap=0.95)  # the title over the wavelength axis on top
+    fig.subplots_adjust(**_margins(fig, 2, 1, bottom=0.6, **margins))
     rows = _rows(ds)
     amp = {(i, k): bands.order_amplitudes(d.u.isel(time=k).values) for i, (_, d) in enumerate(rows) for k in (0, -1)}
     orders = amp[(0, 0)][0]
@@ -306,7 +338,14 @@ def spectrum(ds, diameter=None, limit=None):
     band_ax.set(xlabel="wavelength, one-third-octave band centre (m)", ylabel="band level (dB re 1 µm)",
                 title="one-third-octave band levels in wavelength (EN 15610), 40 dB under the peak")
     band_ax.grid(True, which="major", color="0.9", lw=0.6)
-    band_ax.legend(fontsize="small", ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.16))
+    # under the axis at the foot of the figure, the axis raised by the legend's height
+    labels = band_ax.get_legend_handles_labels()[1]
+    per_column = -(-len(labels) // 2)
+    lines = max(sum(label.count("\n") + 1 for label in labels[c * per_column:(c + 1) * per_column]) for c in (0, 1))
+    legend_height = (1.4 * lines + 1.2) * 10 / 1.2 / 72  # in: lines of 'small' text (10 pt / 1.2), padding
+    band_ax.legend(fontsize="small", ncol=2, loc="lower center", bbox_to_anchor=(0.5, 0.08 / 8),
+                   bbox_transform=fig.transFigure)
+    fig.subplots_adjust(**_margins(fig, 2, 1, bottom=0.7 + legend_height, **margins))
     return fig
 
 
@@ -323,8 +362,9 @@ def polar(ds, diameter=None):
     every = _rows(ds)
     rows = every[:6]
     cols = min(len(rows), 3)
-    fig = Figure(figsize=(4.2 * cols, 4.6 * ((len(rows) + cols - 1) // cols) + 0.4), layout="constrained")
-    axes = fig.subplots((len(rows) + cols - 1) // cols, cols, squeeze=False, subplot_kw={"projection": "polar"})
+    lines = (len(rows) + cols - 1) // cols
+    fig = _fixed_figure(4.2 * cols, 4.6 * lines + 0.4)
+    axes = fig.subplots(lines, cols, squeeze=False, subplot_kw={"projection": "polar"})
     theta = np.append(ds.angle.values, ds.angle.values[0] + 2 * np.pi)
     notes = []
     for ax, (i, (label, d)) in zip(axes.flat, enumerate(rows)):
@@ -358,7 +398,11 @@ def polar(ds, diameter=None):
         f"radial axis: u - mean(u) in µm, not to scale ({origin})"
     shown = "" if len(every) == len(rows) else f" (the first {len(rows)} of {len(every)} rows)"
     fig.suptitle(_title(ds, "the wheel at the start and the end" + shown), fontsize="medium")
-    fig.supxlabel(textwrap.fill(scale, 28 * 2 * cols), fontsize="small")  # under the wheels: one title line
+    scale = textwrap.fill(scale, 28 * 2 * cols)
+    fig.supxlabel(scale, fontsize="small")  # under the wheels: one title line
+    # room for the titles over the angle labels on top, and under them for the scale's lines (10 / 1.2 pt)
+    fig.subplots_adjust(**_margins(fig, lines, cols, left=0.45, right=0.45, top=0.95, hgap=0.9, wgap=0.8,
+                                   bottom=0.4 + (scale.count("\n") + 1) * 1.25 * 10 / 1.2 / 72))
     return fig
 
 

@@ -1,6 +1,8 @@
-"""The figures of ``railwear run`` drawn by forked processes (``plots.fork_drawers``): the same files,
-byte for byte, as drawing them in turn; nothing drawn when the run sends nothing; a drawer's failure
-seen in the process that forked it; and the command itself, started as a new process."""
+"""The figures of ``railwear run``: placed without a layout engine, yet nothing drawn outside the
+figure and no axes' labels over another axes, for one speed and for a batch; drawn by forked
+processes (``plots.fork_drawers``) to the same files, byte for byte, as drawing them in turn;
+nothing drawn when the run sends nothing; a drawer's failure seen in the process that forked it;
+and the command itself, started as a new process."""
 
 import filecmp
 import os
@@ -14,6 +16,7 @@ import pytest
 import xarray as xr
 
 from railwear import api, plots
+from railwear.scenario import load_scenario, parse_scenario, to_toml
 
 _SCRIPT = shutil.which("railwear", path=str(Path(sys.executable).parent))
 COMMAND = [_SCRIPT] if _SCRIPT else [sys.executable, "-m", "railwear"]
@@ -22,6 +25,32 @@ COMMAND = [_SCRIPT] if _SCRIPT else [sys.executable, "-m", "railwear"]
 @pytest.fixture(scope="module")
 def result():
     return api.run("metro")
+
+
+@pytest.fixture(scope="module")
+def batch():
+    text = to_toml(load_scenario("smoothing")).replace("speed_kmh = 120.0", "speed_kmh = [100.0, 150.0, 200.0]")
+    return api.run(parse_scenario(text))
+
+
+@pytest.mark.parametrize("which", ["result", "batch"])
+@pytest.mark.parametrize("name", list(plots.FIGURES))
+def test_nothing_outside_the_figure_or_over_another_axes(name, which, request):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = plots.FIGURES[name](request.getfixturevalue(which))
+    assert fig.get_layout_engine() is None  # placed by margins: constrained layout was a quarter of the drawing
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    width, height = fig.get_size_inches()
+    drawn = fig.get_tightbbox(renderer)  # inches: every label, title, tick and legend drawn
+    assert drawn.x0 >= 0 and drawn.y0 >= 0 and drawn.x1 <= width and drawn.y1 <= height, (drawn, width, height)
+    axes = [ax for ax in fig.axes if ax.get_visible() and ax.axison]
+    for ax in axes:
+        reach = ax.get_tightbbox(renderer)  # the axes with its labels, in pixels
+        for other in axes:
+            assert other is ax or not reach.overlaps(other.bbox), (ax.get_title(), other.get_title())
 
 
 def _drawers():
