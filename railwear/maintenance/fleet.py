@@ -302,7 +302,7 @@ def fleet(scenario=None, manifest=EXAMPLE, policy="metro-condition", daily_km=DA
                                                                load_transient_s, load_tolerance)
     base = re_profiled(sc)
     new = 2 * sc.wheel.radius_m
-    files, (built,) = _policies([policy], base, new)
+    files, (built,) = _policies([policy], base, new, sc)  # a flange trigger needs a lateral profile: refused
     lines, failed, path = read_fleet(manifest, interval=built.triggers.interval is not None)
     points = sc.solver.points
     kept, states = [], []

@@ -135,6 +135,10 @@ def test_flange_triggers_are_read_with_bounds_and_refused_where_there_is_no_late
         plan(load_scenario("metro", ["solver.points=128"]), [policy])
     assert str(refused.value) == ("f: trigger.flange_thickness_min_mm: body.kind 'vehicle_track' does not simulate the "
                                   "lateral profile; flange triggers need body.kind 'wheelset'")
+    from railwear.maintenance.fleet import fleet
+
+    with pytest.raises(ScenarioError, match="^f: trigger.flange_thickness_min_mm: body.kind 'vehicle_track' does not"):
+        fleet(load_scenario("metro", ["solver.points=128"]), "example-fleet", policy)  # never ignored silently
     with pytest.raises(OptionError, match="samples: a plan on body.kind 'wheelset' runs one wheel"):
         plan(load_scenario("wheelset-wear", SMALL), ["wheelset-flange"], samples=2)
 
