@@ -62,6 +62,9 @@ def stability(scenario=None, speeds_kmh=SPEEDS_KMH, orders=ORDERS, amplitude=Non
         a = sc.initial.rms_um * UM if amplitude is None else float(amplitude)
         ds = stability_map(build.wear_rate(sc), v, n, sc.solver.epsilon, sc.solver.nu, a)
         label = f"evolution equation, crest amplitude {a / UM:g} µm"
+    if getattr(sc.body, "several_wheels", False):
+        positions = ", ".join(f"{x:g}" for x in sc.body.wheel_positions_m)
+        label += f"; the fastest combination of the wheels at {positions} m"
     ds.attrs.update(scenario_name=sc.name, scenario_hash=scenario_hash(sc), source=label)
     return speed_coordinates(ds)
 

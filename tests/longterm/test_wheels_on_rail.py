@@ -187,3 +187,11 @@ def test_the_high_speed_wheelbase_row_is_in_the_docs():
     row = script["wheelbase_row"](2.5)[0]
     assert row.startswith("| 2.5 | 24 |") and "| 682 | 23.7 / 28.9 | yes |" in row
     assert row in (docs / "vehicle_track.md").read_text(encoding="utf-8")
+
+
+def test_the_stability_map_of_a_bogie_says_it_maps_the_wheels_combination():
+    from railwear import analysis
+
+    ds = analysis.stability(load_scenario("metro", BOGIE), speeds_kmh=[60.0, 80.0], orders=[7, 8])
+    assert ds.attrs["source"].endswith("; the fastest combination of the wheels at 0, 2.5 m")
+    assert "wheels" not in analysis.stability("metro", speeds_kmh=[60.0], orders=[8]).attrs["source"]
