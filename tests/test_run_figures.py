@@ -53,6 +53,45 @@ def test_nothing_outside_the_figure_or_over_another_axes(name, which, request):
             assert other is ax or not reach.overlaps(other.bbox), (ax.get_title(), other.get_title())
 
 
+@pytest.fixture(scope="module")
+def smoothing():
+    return api.run("smoothing")
+
+
+@pytest.mark.parametrize("which", ["result", "batch", "smoothing"])
+@pytest.mark.parametrize("name", list(plots.FIGURES))
+def test_tick_labels_apart_and_no_mathtext(name, which, request, monkeypatch):
+    """No two tick labels of an axis over each other (the spectrum's band axis once wrote 6x10^0 and
+    its minor ticks over the band centres), and no mathtext, whose parser cost 0.1 s a figure."""
+    import itertools
+
+    import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.mathtext import MathTextParser
+
+    parsed, parse = [], MathTextParser.parse
+
+    def spy(self, text, *args, **kwargs):
+        parsed.append(text)
+        return parse(self, text, *args, **kwargs)
+
+    monkeypatch.setattr(MathTextParser, "parse", spy)
+    fig = plots.FIGURES[name](request.getfixturevalue(which))
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    assert parsed == []
+    renderer = canvas.get_renderer()
+    for ax in fig.axes + [child for ax in fig.axes for child in ax.child_axes]:
+        for k, axis in enumerate((ax.xaxis, ax.yaxis)):
+            low, high = sorted(axis.get_view_interval())
+            labels = [label for label in axis.get_ticklabels(which="both") if label.get_visible()
+                      and label.get_text() and low <= label.get_position()[k] <= high]
+            boxes = [label.get_window_extent(renderer) for label in labels]
+            for (a, box_a), (b, box_b) in itertools.combinations(zip(labels, boxes), 2):
+                assert not (box_a.overlaps(box_b) and np.isfinite([box_a.x0, box_b.x0]).all()), \
+                    (ax.get_title(), a.get_text(), b.get_text())
+
+
 def _drawers():
     drawers = plots.fork_drawers()
     if drawers is None:  # refused where forking is unsafe: threads running in this test process
