@@ -7,9 +7,16 @@ matplotlib, timed in turn in the same run; prints both and the ratio.
 The first ``railwear run`` fills the numba cache if it is cold and is not counted. Wall time is
 what a user waits for; CPU time (user + system of the child) is printed beside it because on a
 shared machine the wall time moves with the other jobs. The load average is printed too.
+
+Then, where the time goes: one fresh process does the command's steps in turn, in one process
+(no forked drawers), and prints each step's wall and CPU time: importing the command, railwear's
+API, the first run (the numba caches loaded, the modules the run imports on use), the same run
+again (the computation alone), result.nc and the summary, matplotlib's import, each figure drawn
+and saved, the report.
 """
 
 import argparse
+import json
 import os
 import resource
 import shutil
@@ -20,6 +27,38 @@ import tempfile
 import time
 
 BARE = [sys.executable, "-c", "import numpy, scipy, xarray, matplotlib"]
+
+
+STEPS = r"""
+import json, sys, time
+sys.modules["dask"] = None  # as the command does (railwear.cli._hide_dask)
+steps, out = [], sys.argv[1]
+def step(name, then=[time.perf_counter(), time.process_time()]):
+    now = [time.perf_counter(), time.process_time()]
+    steps.append((name, now[0] - then[0], now[1] - then[1]))
+    then[:] = now
+import railwear.cli
+step("import railwear.cli (typer)")
+from railwear import api, report, results
+step("import railwear's API (scenario, geometry, contact, numba, xarray)")
+ds = api.run("metro")
+step("first run: numba caches loaded, modules imported on use")
+ds = api.run("metro")
+step("the same run again: the computation alone")
+results.write_netcdf(ds, f"{out}/result.nc")
+summary = results.write_summary(ds, out)
+step("result.nc and the summary (h5netcdf imported)")
+import matplotlib.backends.backend_agg, matplotlib.figure
+from railwear import plots
+step("import matplotlib (figure, agg)")
+paths = []
+for name, make in plots.FIGURES.items():
+    paths.append(plots.save(make(ds), f"{out}/{name}.png"))
+    step(f"figure {name}: drawn and saved")
+report.write_report(ds, f"{out}/{report.NAME}", paths, [], False)
+step("report.html")
+print(json.dumps(steps))
+"""
 
 
 def railwear_run(directory):
@@ -61,6 +100,17 @@ def main():
         ratios = [a[k] / b[k] for a, b in zip(rows["railwear run"], rows["bare import"])]
         print(f"ratio railwear run / bare import, {what}: {statistics.median(ratios):.2f} "
               f"({min(ratios):.2f}-{max(ratios):.2f}, pair by pair; target at most 2)")
+    print("where the time goes, the steps in turn in one fresh process (wall, CPU):")
+    out = tempfile.mkdtemp(prefix="railwear-steps-")
+    try:
+        done = subprocess.run([sys.executable, "-c", STEPS, out], check=True, capture_output=True, text=True)
+    finally:
+        shutil.rmtree(out, ignore_errors=True)
+    steps = json.loads(done.stdout.splitlines()[-1])
+    for name, wall, cpu in steps:
+        print(f"  {wall:5.2f} s  {cpu:5.2f} s  {name}")
+    print(f"  {sum(w for _, w, _ in steps):5.2f} s  {sum(c for _, _, c in steps):5.2f} s  in all (the interpreter's "
+          f"start not counted)")
 
 
 if __name__ == "__main__":
