@@ -46,9 +46,16 @@ def _contact(t, y, p, surf, x, length, spacing, residual, kh, arrays, scratch, g
     r0 = p[k.DW_RADIUS]
     xc = p[k.DW_INITIAL_ANGLE] + p[k.DW_SPEED] / r0 * t + y[0]
     ubar = k.patch_average(surf, int(p[k.DW_N_CELLS]), xc, p[k.DW_PATCH_HALF_ANGLE])
-    dm = p[k.DW_STATIC_APPROACH] - wm - y[2] + ubar
+    normal, d = approach(p[k.DW_STATIC_APPROACH] - wm - y[2] + ubar, residual, kh, guess)
+    return normal, wm, d
+
+
+@njit(cache=True)
+def approach(dm, residual, kh, guess):
+    """``(N, δ)`` of ``δ + r k_H δ^(3/2) = δ_m`` (Newton from ``guess``), ``N = k_H δ^(3/2)``;
+    ``δ_m <= 0``: no contact, ``(0, δ_m)``."""
     if dm <= 0.0:
-        return 0.0, wm, dm
+        return 0.0, dm
     d = min(max(guess, 1e-3 * dm), dm)
     for _ in range(30):
         s = math.sqrt(d)
@@ -60,7 +67,7 @@ def _contact(t, y, p, surf, x, length, spacing, residual, kh, arrays, scratch, g
             d = dn
             break
         d = dn
-    return kh * d * math.sqrt(d), wm, d
+    return kh * d * math.sqrt(d), d
 
 
 @njit(cache=True)

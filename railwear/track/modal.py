@@ -34,7 +34,7 @@ from railwear.errors import ScenarioError
 from railwear.track.model import Track
 
 __all__ = ["ModalTrack", "MovingLoadResult", "RingTrack", "rhs", "rail_displacement", "ring_near", "ring_pads",
-           "ring_rail_displacement", "ring_rhs", "ring_shapes"]
+           "ring_rail_displacement", "ring_rhs", "ring_rhs_loads", "ring_shapes"]
 
 
 def rail_modes(track, step, max_frequency_hz, half_length):
@@ -349,6 +349,44 @@ def ring_rhs(y, phi, force, near, weight, imass, stiff, damp, group, sign, norm,
 
 
 @njit(cache=True)
+def ring_rhs_loads(y, phis, forces, nears, weights, imass, stiff, damp, group, sign, norm, scale, basis, bnorm, tp,
+                   pads, out):
+    """``out = dy/dt`` of the ring track under several ``forces`` [N] (positive down), row ``a``
+    of ``phis``, ``nears``, ``weights`` the shapes and near sleepers of force ``a``: ``ring_rhs``
+    with ``φ F → Σ_a φ_a F_a`` and the seats' residual deflection ``X = Σ_a R(x_j - x_a) F_a``
+    (the same operations in the same order for one force)."""
+    nm = imass.size
+    ns = norm.size
+    kp, kb, cb, ims, rigid = tp[0], tp[2], tp[3], tp[4], tp[5]
+    nf = forces.size
+    for a in range(nf):
+        near, weight = nears[a], weights[a]
+        for i in range(near.size):
+            x = kp * weight[i] * forces[a]
+            if x != 0.0:
+                row = bnorm[near[i]]
+                for g in range(ns):
+                    pads[g] -= x * row[g]
+    for g in range(ns):
+        pads[g] *= scale[g]
+    for i in range(nm):
+        gen = phis[0, i] * forces[0]
+        for a in range(1, nf):
+            gen += phis[a, i] * forces[a]
+        g = group[i]
+        if g >= 0:
+            gen += sign[i] * norm[g] * pads[g]
+        out[i] = y[nm + i]
+        out[nm + i] = (gen - damp[i] * y[nm + i] - stiff[i] * y[i]) * imass[i]
+    if not rigid:
+        for g in range(ns):
+            z = y[2 * nm + g]
+            zd = y[2 * nm + ns + g]
+            out[2 * nm + g] = zd
+            out[2 * nm + ns + g] = -(pads[g] + kb * z + cb * zd) * ims
+
+
+@njit(cache=True)
 def ring_rail_displacement(y, phi, near, weight, pads, basis, residual, force):
     """Rail displacement [m] at the point of ``phi``: the kept modes, the near pads' residual
     deflection ``Σ_j R(x - x_j) P_j`` (``pads`` from ``ring_pads``, before the residual's own
@@ -553,24 +591,35 @@ class RingTrack(_ModalStates):
 
     def static_state(self, x, force) -> np.ndarray:
         """The state at rest under ``force`` [N] at ``x`` [m] (the linear static problem)."""
+        return self.static_loads([x], [force])
+
+    def static_loads(self, positions, forces) -> np.ndarray:
+        """The state at rest under ``forces`` [N] at ``positions`` [m] (the linear static
+        problem ``A y = -b``: ``A`` the accelerations per unit displacement, ``b`` under the loads)."""
         n = self.n_states
         nm, ns = self.n_modes, self.n_sleepers
+        xs, fs = np.asarray(positions, float), np.asarray(forces, float)
+        if xs.ndim != 1 or xs.shape != fs.shape or xs.size < 1:
+            raise ScenarioError("forces: one force per position")
         pos = np.r_[np.arange(nm), 2 * nm + np.arange(ns if n > 2 * nm else 0)]
         acc = np.r_[nm + np.arange(nm), 2 * nm + ns + np.arange(ns if n > 2 * nm else 0)]
+        phis, nears, weights = (np.empty((xs.size, nm)), np.empty((xs.size, self.n_near), np.int64),
+                                np.empty((xs.size, self.n_near)))
+        for a, x in enumerate(xs):
+            ring_shapes(float(x), self.length, phis[a])
+            ring_near(float(x), self.track.sleeper_spacing, ns, self.rtab, self.step, nears[a], weights[a])
+
         def accel(y, f):
-            out = np.zeros(n)
-            phi, near, weight, pads = np.empty(nm), np.empty(self.n_near, np.int64), np.empty(self.n_near), np.empty(2 * ns)
-            ring_shapes(float(x), self.length, phi)
-            ring_near(float(x), self.track.sleeper_spacing, ns, self.rtab, self.step, near, weight)
+            out, pads = np.zeros(n), np.empty(2 * ns)
             ring_pads(y, nm, ns, self.group, self.sign, self.tp, pads)
-            ring_rhs(y, phi, float(f), near, weight, *self.arrays()[:10], pads, out)
+            ring_rhs_loads(y, phis, f, nears, weights, *self.arrays()[:10], pads, out)
             return out[acc]
-        b = accel(np.zeros(n), force)
+        b = accel(np.zeros(n), fs)
         A = np.empty((pos.size, pos.size))
         for c, i in enumerate(pos):
             e = np.zeros(n)
             e[i] = 1.0
-            A[:, c] = accel(e, 0.0)
+            A[:, c] = accel(e, np.zeros(xs.size))
         y = np.zeros(n)
         y[pos] = np.linalg.solve(A, -b)
         return y
