@@ -222,7 +222,10 @@ class WheelsOnRing(WheelOnRing):
         (``t, N, ξ, π, x_c, rail under the wheel (down), z_w, x``). Returns ``(y, records)``."""
         nw = self.n_wheels
         p = np.ascontiguousarray(np.broadcast_to(np.atleast_2d(np.asarray(params, float)), (nw, k.DW_N_PARAMS)))
-        s = np.ascontiguousarray(np.broadcast_to(np.atleast_2d(np.asarray(surf, float)), (nw, np.shape(surf)[-1])))
+        sizes = {np.size(row) for row in (surf if np.ndim(surf[0]) else [surf])}
+        if len(sizes) != 1:
+            raise ScenarioError("surf: every wheel's surface array on one grid (DiskWheelModel.surface_for)")
+        s = np.ascontiguousarray(np.broadcast_to(np.atleast_2d(np.asarray(surf, float)), (nw, sizes.pop())))
         if np.any(p[:, k.DW_SPEED] != p[0, k.DW_SPEED]):
             raise ScenarioError("params: the wheels of one vehicle run at one speed")
         energy = np.zeros((0, 0)) if energy is None else energy

@@ -14,7 +14,10 @@ the two is the force the shape adds, whose amplitude per polygon order ``n`` (at
 ``Ω`` the wheel's angular speed) is set beside the linear model's, ``|N̂_n| = |H̄(nΩ)| |ū_n|``
 (``H̄`` the bay-averaged coupled transfer of
 :meth:`~railwear.longterm.vehicle_track.VehicleTrackModel.contact_force_transfer`, ``ū_n`` the
-harmonic of the patch-filtered deviation the contact reads).
+harmonic of the patch-filtered deviation the contact reads). With several wheels on the rail
+(``wheel_positions``, a bogie ``(0, 2.5)``), the shaped wheel leads and the others follow it round
+(:class:`~railwear.dynamics.wheels_track.WheelsOnRing`, one compiled loop): the peak and least
+force at every wheel beside the round bogie's.
 
 :class:`DynamicLoad` holds the inputs (SI), :func:`dynamic_load` returns the ``xarray.Dataset``;
 :func:`wheel_load` builds the inputs from a scenario and a wheel file; :func:`report`, :func:`write`
@@ -101,7 +104,9 @@ class DynamicLoad:
     ``trace_samples`` the samples per revolution of the stored force trace (the peak and the
     spectrum use every step); the run starts with the wheel ``start_position`` [m] past a sleeper
     and the angle ``start_angle`` [rad] of ``u`` in contact. ``bay_positions``: the offsets the
-    linear model averages over. ``wheel``: what the shape is, in words."""
+    linear model averages over. ``wheel``: what the shape is, in words. ``wheel_positions``: the
+    wheels on the rail, m behind the shaped wheel (0, then increasing; the others round); the
+    ring must be at least twice their span."""
 
     case: object
     deviation: np.ndarray
@@ -116,6 +121,7 @@ class DynamicLoad:
     start_angle: float = 0.0
     bay_positions: int = 8
     wheel: str = field(default="a wheel")
+    wheel_positions: tuple = (0.0,)
 
     def __post_init__(self):
         from railwear.longterm.vehicle_track import VehicleCase
@@ -155,6 +161,16 @@ class DynamicLoad:
         _check("start_position", self.start_position, -1e6, 1e6)
         _check("start_angle", self.start_angle, -1e3, 1e3)
         _check("bay_positions", self.bay_positions, 1, 256, integer=True)
+        x = np.atleast_1d(np.asarray(self.wheel_positions, float))
+        if x.ndim != 1 or not 1 <= x.size <= 8 or not np.all(np.isfinite(x)) or x[0] != 0 or np.any(np.diff(x) <= 0):
+            raise ScenarioError(f"wheel_positions: 1 to 8 wheels' distances behind the shaped wheel (m), 0 then "
+                                f"increasing, got {self.wheel_positions!r}")
+        length = int(self.ring_sleepers) * self.case.track.sleeper_spacing
+        if 2 * x[-1] > length * (1 + 1e-9):
+            raise ScenarioError(f"ring_sleepers: a ring of {int(self.ring_sleepers)} bays ({length:g} m) is shorter than "
+                                f"twice the wheels' span ({x[-1]:g} m): round it the last wheel would run just ahead of "
+                                f"the first; take at least {math.ceil(2 * x[-1] / self.case.track.sleeper_spacing)} bays")
+        object.__setattr__(self, "wheel_positions", tuple(float(v) for v in x))
 
     def ring(self):
         """The :class:`~railwear.track.modal.RingTrack` the wheel runs on."""
@@ -185,15 +201,20 @@ def _intervals(mask):
 
 def _speed_run(inputs, ring, speed, with_round=True):
     """The polygon and the round wheel at ``speed`` [m/s]: ``(records, round_records, model, dt,
-    steps per revolution, the record's start time)``, every step of ``revolutions`` recorded
-    (without ``with_round``, the round wheel is not run and its records are the polygon's)."""
+    steps per revolution, the record's start time)``, every step of ``revolutions`` recorded, rows
+    ``(steps, wheels, 8)`` (the shaped wheel first; without ``with_round``, the round wheel is not
+    run and its records are the polygon's)."""
     from railwear.dynamics.disk_wheel_track import WheelOnRing
+    from railwear.dynamics.wheels_track import WheelsOnRing
     from railwear.longterm.disk_wheel import start_lift, wheel_turn
 
     u, a0 = inputs.deviation, float(inputs.start_angle)
     base = inputs.case.wheel(speed)
     shaped = replace(base, radius_deviation=u, initial_angle=a0, initial_lift=start_lift(base, u, a0))
     round_wheel = replace(base, initial_angle=a0)
+    bogie = len(inputs.wheel_positions) > 1
+    if bogie:  # every wheel's surface on the shape's grid
+        round_wheel = replace(round_wheel, radius_deviation=np.zeros(u.size))
     turn = wheel_turn(base)
     rate = WheelOnRing(base, ring, 1e-12).fastest_rate()
     step = min(float(inputs.max_step), STABLE_STEP / rate)
@@ -204,13 +225,19 @@ def _speed_run(inputs, ring, speed, with_round=True):
     out = []
     runs = (shaped, round_wheel) if with_round else (shaped,)
     for model in runs if np.any(u) else (round_wheel,):  # a round wheel runs once
-        dyn = WheelOnRing(model, ring, dt)
-        p, surf = model.params(), model.surface()
-        y = dyn.static_state(x0, model.initial_lift)
+        if bogie:
+            dyn = WheelsOnRing(model, ring, dt, positions=inputs.wheel_positions)
+            models = [model] + [round_wheel] * (dyn.n_wheels - 1)
+            p, surf = [m.params() for m in models], [m.surface() for m in models]
+            y = dyn.static_state(x0, [m.initial_lift for m in models], models)
+        else:
+            dyn = WheelOnRing(model, ring, dt)
+            p, surf = model.params(), model.surface()
+            y = dyn.static_state(x0, model.initial_lift)
         if settle:
             y, _ = dyn.run(y, 0.0, settle, x0, p, surf)
         _, records = dyn.run(y, t0, int(inputs.revolutions) * per, x0 + speed * t0, p, surf, every=1)
-        out.append(records[:-1])  # whole revolutions: the last row is the first of the next
+        out.append(records[:-1].reshape(-1, len(inputs.wheel_positions), records.shape[-1]))  # whole revolutions
     return out[0], out[-1], shaped, dt, per, t0
 
 
@@ -250,8 +277,12 @@ def dynamic_load(inputs: DynamicLoad, progress=None) -> xr.Dataset:
         "step", "omega")}
     per_order = {name: np.full((k_s, k_o), np.nan) for name in ("simulated", "linear", "phase")}
     trace = {name: np.full((k_s, k_t), np.nan) for name in ("force", "round", "time", "angle", "offset", "deviation")}
+    wheels = {name: np.full((k_s, len(inputs.wheel_positions)), np.nan) for name in ("peak", "minimum", "round_peak")}
     for i, v in enumerate(speeds):
-        rec, flat, model, dt, per, t0 = _speed_run(inputs, ring, v)
+        every_wheel, round_wheels, model, dt, per, t0 = _speed_run(inputs, ring, v)
+        wheels["peak"][i], wheels["minimum"][i] = every_wheel[:, :, 1].max(0), every_wheel[:, :, 1].min(0)
+        wheels["round_peak"][i] = round_wheels[:, :, 1].max(0)
+        rec, flat = every_wheel[:, 0], round_wheels[:, 0]
         force, angle = rec[:, 1], rec[:, 4]
         j = int(np.argmax(force))
         s = scalar
@@ -338,6 +369,15 @@ def dynamic_load(inputs: DynamicLoad, progress=None) -> xr.Dataset:
                "linear_model": "the bay-averaged coupled transfer N/u of the vehicle-track model (Fourier technique) "
                                "times the patch-filtered harmonic; the simulated amplitude is the force less the round "
                                "wheel's, at the line n times the wheel's rotation frequency over whole revolutions"})
+    if len(inputs.wheel_positions) > 1:
+        sw = ("speed", "wheel")
+        ds = ds.assign({
+            "wheel_peak_force": (sw, wheels["peak"], {"units": "N", "long_name": "peak vertical force at each wheel"}),
+            "wheel_minimum_force": (sw, wheels["minimum"], {"units": "N", "long_name": "least vertical force at each wheel"}),
+            "wheel_round_peak_force": (sw, wheels["round_peak"], {
+                "units": "N", "long_name": "peak vertical force at each wheel with every wheel round"})})
+        ds = ds.assign_coords(wheel_position=("wheel", np.array(inputs.wheel_positions), {
+            "units": "m", "long_name": "wheel behind the shaped one on the same rail (the others round)"}))
     ds = speed_coordinates(ds, speeds, "speed")
     return ds.assign_coords(frequency=(so, orders[None, :] * s["omega"][:, None] / (2 * np.pi),
                                        {"units": "Hz", "long_name": "frequency of the order"}))
@@ -349,7 +389,7 @@ def peak_forces(inputs: DynamicLoad, speeds=None, ring=None) -> np.ndarray:
     spectrum or the trace: what a detector reads, at one time-domain run per speed."""
     ring = inputs.ring() if ring is None else ring
     speeds = inputs.speeds if speeds is None else speeds
-    return np.array([float(_speed_run(inputs, ring, float(v), with_round=False)[0][:, 1].max()) for v in speeds])
+    return np.array([float(_speed_run(inputs, ring, float(v), with_round=False)[0][:, 0, 1].max()) for v in speeds])
 
 
 # ---- from a scenario and a wheel file ---------------------------------------------------------
@@ -430,9 +470,16 @@ def wheel_load(scenario=None, speeds_kmh=(40.0, 70.0, 120.0), wheel=None, result
     else:
         u = build.initial_state(sc)
         words = f"the scenario's initial wheel ({sc.initial.kind}, {np.ptp(u) / UM:.1f} um peak to peak)"
-    inputs = DynamicLoad(sc.body.case(sc), u, tuple(kmh_to_m_s(np.atleast_1d(np.asarray(speeds_kmh, float)))),
-                         sc.track.ring_sleepers, sc.track.ring_max_frequency_hz, revolutions=revolutions,
-                         transient=transient, bay_positions=sc.track.bay_positions, wheel=words)
+    try:
+        inputs = DynamicLoad(sc.body.case(sc), u, tuple(kmh_to_m_s(np.atleast_1d(np.asarray(speeds_kmh, float)))),
+                             sc.track.ring_sleepers, sc.track.ring_max_frequency_hz, revolutions=revolutions,
+                             transient=transient, bay_positions=sc.track.bay_positions, wheel=words,
+                             wheel_positions=tuple(sc.body.wheel_positions_m or (0.0,)))
+    except ScenarioError as e:  # the scenario's names for DynamicLoad's
+        for name, field in (("ring_sleepers", "track.ring_sleepers"), ("wheel_positions", "body.wheel_positions_m")):
+            if str(e).startswith(f"{name}:"):
+                raise ScenarioError(field + str(e)[len(name):]) from None
+        raise
     ds = dynamic_load(inputs, progress)
     ds.attrs.update({"title": f"railwear: {sc.name}, dynamic wheel load", "scenario_name": sc.name,
                      "scenario": to_toml(sc), "scenario_hash": scenario_hash(sc)})
@@ -472,6 +519,20 @@ def table_rows(ds):
     return rows
 
 
+def _wheels_lines(ds):
+    """With several wheels on the rail: the peak at each wheel per speed, beside the round bogie's."""
+    if "wheel_peak_force" not in ds:
+        return []
+    x = ds.wheel_position.values
+    lines = ["", f"wheels on the rail at {', '.join(f'{v:g}' for v in x)} m, the shaped wheel first, the others round:",
+             f"  {'speed':>5}  peak force at each wheel, kN (every wheel round)"]
+    for i, kmh in enumerate(ds.speed_kmh.values):
+        peaks = ", ".join(f"{a / KN:.1f} ({b / KN:.1f})" for a, b in zip(ds.wheel_peak_force.values[i],
+                                                                       ds.wheel_round_peak_force.values[i]))
+        lines.append(f"  {kmh:5g}  {peaks}")
+    return lines
+
+
 def report(ds):
     """The dynamic load in words: the wheel, the track, per speed the peak against the detector
     thresholds, the contact loss and the sleeper passing, then the thresholds with their sources."""
@@ -495,6 +556,7 @@ def report(ds):
         lines.append(f"  {row['speed_kmh']:5g}  {row['peak_force_kN']:5.1f}  {increment:<14}  "
                      f"{row['minimum_force_kN']:5.1f}  {lost:<40}  {row['sleeper_ripple_kN']:9.2f}  "
                      f"{row['largest_order']:5d}: {row['largest_order_force_kN']:<5.1f}  {row['flagged_by']}")
+    lines += _wheels_lines(ds)
     peak = ds.peak_force.values
     j = int(np.argmax(peak))
     low = int(np.argmin(ds.threshold.values))
@@ -532,6 +594,10 @@ def peak_figure(ds, label=None, others=()):
     named = f", {label}" if label else ""
     ax.plot(kmh, ds.peak_force.values / KN, "o-", color="C3", label=f"peak force{named}")
     ax.plot(kmh, ds.minimum_force.values / KN, "v-", color="C0", label=f"least force{named} (0: contact lost)")
+    if "wheel_peak_force" in ds:
+        for a in range(1, ds.sizes["wheel"]):
+            ax.plot(kmh, ds.wheel_peak_force.values[:, a] / KN, "s-", color=("C2", "C8", "C9", "C7")[(a - 1) % 4], ms=5,
+                    label=f"peak force, round wheel {ds.wheel_position.values[a]:g} m behind")
     for other, o in others:
         ax.plot(o.speed_kmh.values, o.peak_force.values / KN, "o--", color="C3", mfc="none", label=f"peak force, {other}")
         ax.plot(o.speed_kmh.values, o.minimum_force.values / KN, "v--", color="C0", mfc="none",
