@@ -442,9 +442,10 @@ def run_lines(r):
     if "rail_modes_hz" in r:
         m, x = r["rail_modes_hz"], r["wheel_positions_m"]
         bounds = ", ".join(f"{lo:.0f}-{hi:.0f}" for lo, hi in zip(m["pinned"], m["clamped"]))
-        held = ", ".join("-" if h is None else f"{h:.0f}" for h in m["held"])
+        peaks = [f"{h:.0f} Hz (mode {i + 1})" for i, h in enumerate(m["held"]) if h is not None]
+        held = ", ".join(peaks) if peaks else "none (the track's damping takes them)"
         lines.append(f"rail between the wheels at {x[0]:g} and {x[1]:g} m: bending modes at {bounds} Hz (pinned-clamped "
-                     f"span), peaks of the rail they hold {held} Hz")
+                     f"span); the rail they hold peaks at {held}")
     if "peak_to_peak_limit_mm" in r:
         reached = (f"reached after {r['limit_distance_km']:,.0f} km" if r["limit_distance_km"] is not None
                    else f"not reached in {r['distance_km']:,.0f} km")
