@@ -29,7 +29,7 @@ from railwear.dynamics.disk_wheel_track import N_RECORDS, WHEEL_STATES, WheelOnR
 from railwear.errors import ScenarioError
 from railwear.track.modal import ring_near, ring_pads, ring_rail_displacement, ring_rhs_loads, ring_shapes
 
-__all__ = ["WheelsOnRing", "wheels_on_ring_run", "force_transfer"]
+__all__ = ["WheelsOnRing", "wheels_on_ring_run", "force_transfer", "odd_response"]
 
 MAX_WHEELS = 8
 
@@ -237,33 +237,42 @@ class WheelsOnRing(WheelOnRing):
                                   self.behind, p, s, energy, int(every), *self.ring.arrays())
 
 
-def force_transfer(dyn, order, which=0, amplitude=1e-6, cells=256, transient=4, revolutions=16, x0=1.0):
-    """The wheels' normal forces per unit filtered radius deviation ``ū`` [N/m] of ``order`` on
-    wheel ``which`` alone (the others round), complex, one per wheel: the runs over
-    ``±amplitude cos(n x)`` [m] on ``cells`` cells, ``transient`` revolutions then ``revolutions``
-    recorded at every step of ``dyn`` (a :class:`WheelsOnRing`; ``dt`` should divide a
-    revolution), the first wheel from ``x0`` [m]. Half their difference keeps the odd part (the
-    sleeper passing and the Hertz square cancel); each force's component at ``e^{i n x_c}``
-    (``x_c`` wheel ``which``'s contact angle) over that of ``ū`` (``kernels.patch_average`` of the
-    surface at ``x_c``)."""
+def odd_response(dyn, order, which=0, amplitude=1e-6, cells=256, transient=4, revolutions=16, x0=1.0):
+    """The wheels' response to ``±amplitude cos(n x)`` [m] of ``order`` on wheel ``which`` alone
+    (the others round, every wheel's surface on ``cells`` cells and at the same phase), half the
+    difference of the two runs (the sleeper passing and the Hertz square cancel): ``transient``
+    revolutions then ``revolutions`` recorded at every step of ``dyn`` (a :class:`WheelsOnRing`;
+    ``dt`` should divide a revolution), the first wheel from ``x0`` [m]. Returns ``(force,
+    energy, seconds)``: each wheel's normal force per unit filtered deviation ``ū`` [N/m, complex]
+    (its component at ``e^{i n x_c}``, ``x_c`` wheel ``which``'s contact angle, over that of
+    ``ū = kernels.patch_average`` of the surface at ``x_c``), the frictional energy swept onto
+    each wheel's cells [J, ``(wheels, cells)``] and the recorded time [s]."""
     from dataclasses import replace
 
     base = dyn.wheel
     x = 2 * np.pi * np.arange(cells) / cells
     per = int(round(2 * np.pi * base.radius / (base.speed * (1 + base.steady_creepage())) / dyn.dt))
     flat = replace(base, radius_deviation=0 * x)
-    rec = {}
+    rec, energy = {}, {}
     for sign in (1, -1):
         shaped = replace(base, radius_deviation=sign * amplitude * np.cos(order * x))
         ms = [shaped if a == which else flat for a in range(dyn.n_wheels)]
         p, surf = [m.params() for m in ms], [m.surface() for m in ms]
         t1 = transient * per * dyn.dt
         y, _ = dyn.run(dyn.static_state(x0, 0.0, models=ms), 0.0, transient * per, x0, p, surf)
-        rec[sign] = dyn.run(y, t1, revolutions * per, x0 + base.speed * t1, p, surf, every=1)[1][:-1]
+        energy[sign] = np.zeros((dyn.n_wheels, cells))
+        rec[sign] = dyn.run(y, t1, revolutions * per, x0 + base.speed * t1, p, surf, energy[sign], every=1)[1][:-1]
     force = 0.5 * (rec[1][:, :, 1] - rec[-1][:, :, 1])
     angle = rec[1][:, which, 4]
     surf = replace(base, radius_deviation=amplitude * np.cos(order * x)).surface()
     half = base.patch_half_length / base.radius
     ubar = np.array([k.patch_average(surf, cells, float(a), half) for a in angle])
     e = np.exp(-1j * order * angle)
-    return (force * e[:, None]).mean(0) / (ubar * e).mean()
+    return ((force * e[:, None]).mean(0) / (ubar * e).mean(), 0.5 * (energy[1] - energy[-1]),
+            revolutions * per * dyn.dt)
+
+
+def force_transfer(dyn, order, which=0, amplitude=1e-6, cells=256, transient=4, revolutions=16, x0=1.0):
+    """The wheels' normal forces per unit filtered radius deviation ``ū`` [N/m, complex] of
+    ``order`` on wheel ``which`` alone (:func:`odd_response`)."""
+    return odd_response(dyn, order, which, amplitude, cells, transient, revolutions, x0)[0]
