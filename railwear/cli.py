@@ -767,7 +767,8 @@ def wheel_load(
 ):
     """The vertical wheel-rail force a wheel-impact-load detector sees: peak, least force, contact
     loss and spectrum per speed on the time-domain track, against published detector thresholds;
-    DIR/load.nc, load.txt, load.csv, load-peak.png, load-trace.png."""
+    with body.wheel_positions_m (a bogie, a car) the peak at each wheel, the shaped one leading and
+    the others round; DIR/load.nc, load.txt, load.csv, load-peak.png, load-trace.png."""
     from railwear.maintenance import impact
 
     v = _parse_range(speeds, "--speeds")
