@@ -1042,8 +1042,9 @@ def _full_collections(on):
     """Hold (``on`` False, from :func:`main`) or restore the garbage collector's full passes. A
     command's start imports numpy, scipy, xarray, numba and railwear: about half a million objects
     that live to its end, which each full pass walks again (0.1-0.2 s of a warm ``railwear run``).
-    Held, only the young generations are collected; restored (at the start of the computation),
-    what exists then is frozen out of every later pass and the usual thresholds return."""
+    Held, only the young generations are collected; restored (at the start of the computation, the
+    progress line's), what exists then is frozen out of every later pass and the usual thresholds
+    return. A command without a progress line keeps them held to its end."""
     import gc
 
     if not on:
