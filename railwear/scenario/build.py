@@ -254,13 +254,17 @@ def stepwise(scenario: Scenario):
 
 @builds("direct")
 def direct(scenario: Scenario):
-    """Strategy 1 on the body at the operation speed: the disk wheel's outputs at ``solver.n_save``
+    """Strategy 1 on the body at the operation speed, or over the ``[operation]`` duty cycle (the
+    body at each segment's speed and demand): the disk wheel's outputs at ``solver.n_save``
     marks, the wheelset's after every update."""
     from railwear.longterm.direct import Direct
 
+    duty = scenario.operation.duty()
+    cycle = () if duty is None else tuple((s.share, body(at_demand(scenario, s.traction_coefficient), s.speed))
+                                          for s in duty.segments)
     return Direct(body(scenario, one_speed(scenario)), scenario.strategy.acceleration_factor,
                   n_save=None if scenario.body.saves_every_segment else scenario.solver.n_save,
-                  seed=scenario.service.seed)
+                  seed=scenario.service.seed, cycle=cycle)
 
 
 def body(scenario: Scenario, speed=None):

@@ -494,10 +494,12 @@ class StepwiseSection(StrategySection):
 @strategy_section
 class DirectSection(StrategySection):
     """Direct coupled integration: ``acceleration_factor`` on the wear coefficient (>= 1); the
-    body's coupled segments as ``[body]`` says."""
+    body's coupled segments as ``[body]`` says; over a duty cycle every segment from its own
+    settled state, weighed by distance (:mod:`railwear.longterm.direct`)."""
 
     kind: Literal["direct"] = "direct"
     needs: ClassVar[str] = "segment"
+    runs_cycles: ClassVar[bool] = True
     acceleration_factor: Annotated[float, Field(ge=1, le=1e9, allow_inf_nan=False)] = 100.0
 
 

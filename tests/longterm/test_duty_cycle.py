@@ -112,8 +112,8 @@ def test_a_bad_cycle_is_refused_naming_the_field(change, field):
 
 
 def test_a_cycle_runs_with_the_strategies_that_run_one_and_carries_the_demand():
-    with pytest.raises(ScenarioError, match=r"operation\.cycle: the direct strategy runs one operating point"):
-        load_scenario(metro_with({"cycle": CYCLE}), ["strategy.kind=direct"])
+    with pytest.raises(ScenarioError, match=r"operation\.cycle: the phenomenological strategy runs one operating point"):
+        load_scenario(metro_with({"cycle": CYCLE}), ["strategy.kind=phenomenological"])
     assert load_scenario(metro_with({"cycle": CYCLE}), ["strategy.kind=stepwise"]).operation.duty() is not None
     with pytest.raises(ScenarioError, match=r"contact\.traction_coefficient: operation\.cycle gives the demand"):
         metro_with({"cycle": CYCLE}, traction_coefficient=0.05)

@@ -168,7 +168,7 @@ def test_the_multiplier_takes_the_averaged_fourier_rates_of_a_cycle():
 
 
 @pytest.mark.parametrize("change, field", [
-    ({"strategy": {"kind": "direct"}}, r"operation\.cycle: the direct strategy runs one operating point"),
+    ({"strategy": {"kind": "phenomenological"}}, r"operation\.cycle: the phenomenological strategy runs one operating point"),
     ({"strategy": {"kind": "multiplier"}}, r"strategy\.local: the load nonlinearity is one per segment"),
 ])
 def test_what_cannot_run_a_cycle_is_refused_naming_the_field(change, field):
