@@ -20,7 +20,6 @@ With ``g = minor/major`` and ``K, E`` the complete elliptic integrals of modulus
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import elliprd, elliprf
 
 from railwear.contact._checks import as_float_array, non_negative, poisson_ratio, positive
 from railwear.contact._checks import scalar_or_array
@@ -35,6 +34,8 @@ _BISECTION_STEPS = 70
 
 def _associate_integrals(mc):
     """K, D = (K-E)/k², B = K - D for complementary parameter ``mc = 1 - k²`` (Carlson forms)."""
+    from scipy.special import elliprd, elliprf  # here, not at import (0.1-0.3 s)
+
     zero = np.zeros_like(mc)
     one = np.ones_like(mc)
     K = elliprf(zero, mc, one)

@@ -20,7 +20,7 @@ from numba import njit
 
 from railwear.contact._checks import as_float_array, non_negative, positive
 from railwear.contact.hertz import _mnr_from_ratio, effective_modulus
-from railwear.contact.semi_hertz import _APRIME, _EPS, _U, _crossing, patch_kernel
+from railwear.contact.semi_hertz import _crossing, factor_table, patch_kernel
 from railwear.errors import ScenarioError
 
 __all__ = ["hertz_stiffness", "share_load", "semi_hertz_share", "SEMI_FIELDS"]
@@ -217,7 +217,7 @@ def semi_hertz_share(s, gap, rolling_curvature, contact_angle, load, youngs_modu
     out = np.zeros((index.size, len(SEMI_FIELDS)))
     d = _semi_wheel(F, index.astype(np.int64), np.full(index.size, h[0]) / c, g0[index], c,
                     np.ascontiguousarray(A[index], dtype=float), np.ascontiguousarray(s[index]), h[0], Q, estar,
-                    _U, _EPS, _APRIME, cap, out)
+                    *factor_table(), cap, out)
     contacts = {"index": index, "gap": g0[index]}
     contacts.update({name: out[:, k] for k, name in enumerate(SEMI_FIELDS)})
     return d, contacts

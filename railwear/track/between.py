@@ -29,7 +29,6 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 
 from railwear.errors import ScenarioError
 from railwear.track.finite import span_dynamic_stiffness
@@ -98,6 +97,8 @@ def span_modes(track: Track, length, ends="pinned", count=3, offset=0.5, max_fre
     def det(x):
         return _span_determinant(t, L, ends, float(offset), 2 * np.pi * np.atleast_1d(x))
 
+    from scipy.optimize import brentq  # here, not at import (0.1 s)
+
     d = det(f)
     roots = []
     for i in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
@@ -146,6 +147,8 @@ def held_modes(track: Track, length, count=3, offset="midspan", wheel_receptance
     f = np.arange(low_hz, high_hz + step_hz, step_hz)
     y = level(f)
     peaks = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])) + 1
+    from scipy.optimize import minimize_scalar  # here, not at import
+
     out = [minimize_scalar(lambda v: -level(np.array([v]))[0], bounds=(f[k - 1], f[k + 1]), method="bounded",
                            options={"xatol": 1e-3}).x for k in peaks[:count]]
     return np.array(out)
@@ -174,6 +177,8 @@ def localised_modes(track: Track, length, count=3, offset="midspan", wheel_recep
 
     def level(f):
         return np.abs(held_receptance(track, (0.0, L), f, points, offset, wheel_receptance)).sum(axis=1)
+
+    from scipy.optimize import minimize_scalar  # here, not at import
 
     held = np.full(len(pinned), np.nan)
     for n, (lo, hi) in enumerate(zip(0.9 * pinned, 1.1 * clamped[:len(pinned)])):

@@ -32,7 +32,6 @@ it to 1e-10 relative up to 10 kHz, where both carry the round-off of ``T``'s spr
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import expm
 
 from railwear.errors import ScenarioError
 from railwear.track.model import Track
@@ -139,6 +138,8 @@ class _Spans:
         P = (c[0, :, None, None] * np.eye(4) + c[1, :, None, None] * self.A + c[2, :, None, None] * self.A2
              + c[3, :, None, None] * self.A3)
         if np.any(close):
+            from scipy.linalg import expm  # only for nearly equal roots, not at import
+
             P[close] = expm(self.A[close] * x)
         return P
 
