@@ -33,6 +33,8 @@ import math
 
 import numpy as np
 from numba import literally, njit
+from numba.core import types
+from numba.extending import overload
 
 from railwear.dynamics.kernels import (ByLiteral, contact_power, event_inline, patch_half_angle, rhs_call, rhs_inline,
                                        sweep, switching_inline)
@@ -380,15 +382,110 @@ def _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, 
     return True
 
 
-@njit(cache=True)
-def _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r):
-    """Dense-output coefficients of the last explicit step; returns the extra RHS evaluations."""
-    literally(kind)
-    if method == METHOD_DOP853:
-        _dop853_dense(kind, p, surf, t, y, h, ynew, k, q, tmp, r)
-        return 3
+# ---- the method's pieces, picked when the loop is typed ----------------------------------------
+# ``integrate`` takes the method as a compile-time constant, and the functions below choose the
+# method's code when a caller is typed, so a run compiles the one method it uses. (numba prunes no
+# branch on the value of a constant integer argument: with ``if method == ...`` in the loop, every
+# method was typed and compiled, the Rosenbrock step with its Jacobian and LU included.)
+
+
+def _by_method(method, impls):
+    """The implementation in ``impls`` (method number -> function) for the constant ``method``
+    (a numba integer literal type); None (no match) otherwise."""
+    if not isinstance(method, types.IntegerLiteral):
+        return None
+    return impls[method.literal_value]
+
+
+def _trial_step(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp, f1, jac, dfdt,
+                w, piv, jac_fresh, stats):
+    """One trial step of ``method`` from ``(t, y)`` of size ``h``: the new state into ``ynew`` and
+    its RHS into ``fnew``, the error estimate into ``err`` (DOP853: the fifth-order one, the third-
+    order one into ``k1``), the RHS evaluations counted in ``stats``. Returns ``(ok, jac_fresh)``:
+    ``ok`` False when the step failed (a singular ``W``, a non-finite third-order estimate).
+    Compiled code only."""
+    raise TypeError("_trial_step is for compiled code")
+
+
+def _dopri5_trial(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp, f1, jac, dfdt,
+                  w, piv, jac_fresh, stats):
+    _explicit_step(kind, p, surf, t, y, f0, h, _A, _C, 7, ynew, fnew, k, tmp)
+    _combine(_E, k, h, err)
+    stats[STAT_NFEV] += 6
+    return True, jac_fresh
+
+
+def _dop853_trial(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp, f1, jac, dfdt,
+                  w, piv, jac_fresh, stats):
+    _explicit_step(kind, p, surf, t, y, f0, h, _D8_A, _D8_C, 13, ynew, fnew, k, tmp)
+    _combine(_D8_E5, k, h, err)
+    _combine(_D8_E3, k, h, k1)  # the third-order estimate
+    stats[STAT_NFEV] += 12
+    return _all_finite(k1), jac_fresh
+
+
+def _rosenbrock_trial(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp, f1, jac,
+                      dfdt, w, piv, jac_fresh, stats):
+    if not jac_fresh:
+        _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, f1)
+        stats[STAT_NFEV] += y.shape[0] + 1
+        stats[STAT_NJAC] += 1
+    ok = _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, w, piv, k1, k2, tmp, f1)
+    stats[STAT_NFEV] += 2
+    return ok, True
+
+
+@overload(_trial_step, prefer_literal=True)
+def _trial_step_of(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp, f1, jac, dfdt,
+                   w, piv, jac_fresh, stats):
+    return _by_method(method, {METHOD_DOPRI5: _dopri5_trial, METHOD_DOP853: _dop853_trial,
+                               METHOD_ROSENBROCK: _rosenbrock_trial})
+
+
+def _error_measure(method, err, e3, y, ynew, rtol, atol):
+    """The step's error in the weighted norm (DOP853: with its third-order estimate ``e3``);
+    compiled code only."""
+    raise TypeError("_error_measure is for compiled code")
+
+
+def _plain_error(method, err, e3, y, ynew, rtol, atol):
+    return _error_norm(err, y, ynew, rtol, atol)
+
+
+def _dop853_error(method, err, e3, y, ynew, rtol, atol):
+    return _dop853_error_norm(err, e3, y, ynew, rtol, atol)
+
+
+@overload(_error_measure, prefer_literal=True)
+def _error_measure_of(method, err, e3, y, ynew, rtol, atol):
+    return _by_method(method, {METHOD_DOPRI5: _plain_error, METHOD_ROSENBROCK: _plain_error,
+                               METHOD_DOP853: _dop853_error})
+
+
+def _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
+    """Dense-output coefficients of the last explicit step into ``q``; returns the extra RHS
+    evaluations. (The Rosenbrock step builds its own; compiled code only.)"""
+    raise TypeError("_explicit_dense is for compiled code")
+
+
+def _dopri5_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
     _dopri_dense(k, q)
     return 0
+
+
+def _dop853_dense_counted(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
+    _dop853_dense(kind, p, surf, t, y, h, ynew, k, q, tmp, r)
+    return 3
+
+
+def _rosenbrock_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
+    return 0  # never called: the Rosenbrock step leaves its coefficients in ``q``
+
+
+@overload(_explicit_dense, prefer_literal=True)
+def _explicit_dense_of(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
+    return _by_method(method, {METHOD_DOPRI5: _dopri5_dense, METHOD_DOP853: _dop853_dense_counted,
+                               METHOD_ROSENBROCK: _rosenbrock_dense})
 
 
 @njit(cache=True)
@@ -500,8 +597,10 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
     ``clock`` (a float64 array of one element, or omitted): the time of the last accepted step is
     written to ``clock[0]`` as the run goes, for a progress display; the loop runs without the GIL,
     so a Python thread can read it meanwhile. Writing it changes no number.
+    ``kind`` and ``method`` are compile-time constants: a run compiles its model and its method.
     """
     literally(kind)
+    literally(method)
     n = y0.shape[0]
     stats = np.zeros(5, dtype=np.int64)
     dense_mode = t_eval.shape[0] > 0
@@ -597,35 +696,14 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
         if h <= 1e-14 * max(abs(t), abs(span)) and not last:  # a short last step is harmless
             status = STATUS_STEP_TOO_SMALL
             break
-        ok = True
-        if method == METHOD_DOPRI5:
-            _explicit_step(kind, p, surf, t, y, f0, h, _A, _C, 7, ynew, fnew, k, tmp)
-            _combine(_E, k, h, err)
-            stats[STAT_NFEV] += 6
-        elif method == METHOD_DOP853:
-            _explicit_step(kind, p, surf, t, y, f0, h, _D8_A, _D8_C, 13, ynew, fnew, k, tmp)
-            _combine(_D8_E5, k, h, err)
-            _combine(_D8_E3, k, h, k1)  # the third-order estimate
-            stats[STAT_NFEV] += 12
-        else:
-            if not jac_fresh:
-                _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, f1)
-                stats[STAT_NFEV] += n + 1
-                stats[STAT_NJAC] += 1
-                jac_fresh = True
-            ok = _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, w, piv, k1, k2, tmp, f1)
-            stats[STAT_NFEV] += 2
-        if method == METHOD_DOP853 and not _all_finite(k1):  # k1 holds the third-order estimate
-            ok = False
+        ok, jac_fresh = _trial_step(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp,
+                                    f1, jac, dfdt, w, piv, jac_fresh, stats)
         if not ok or not _all_finite(ynew) or not _all_finite(err):
             stats[STAT_NREJECT] += 1
             h *= 0.25
             fac_max = 1.0
             continue
-        if method == METHOD_DOP853:
-            en = _dop853_error_norm(err, k1, y, ynew, rtol, atol)
-        else:
-            en = _error_norm(err, y, ynew, rtol, atol)
+        en = _error_measure(method, err, k1, y, ynew, rtol, atol)
         if en > 1.0:
             stats[STAT_NREJECT] += 1
             if cut_at_switches and cuts < 2:
@@ -655,7 +733,7 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
             g_new = event_inline(kind, t_new, ynew, p, surf)
             if (g_new > 0.0) != (g_old > 0.0) and g_new != 0.0:
                 if not q_ready:
-                    stats[STAT_NFEV] += _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r)
+                    stats[STAT_NFEV] += _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r)
                     q_ready = True
                 s_end = _locate_event(kind, p, surf, t, y, h, q, g_old, g_new, tmp, False)
                 hit = 1 if g_new > 0.0 else -1
@@ -689,12 +767,12 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
             n_ev += 1
         if energy.shape[0] > 0:
             if not q_ready:
-                stats[STAT_NFEV] += _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r)
+                stats[STAT_NFEV] += _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r)
                 q_ready = True
             _deposit_step(kind, p, surf, t, y, h, q, s_end, energy, tmp)
         if dense_mode:
             if not q_ready and i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
-                stats[STAT_NFEV] += _explicit_dense(kind, p, surf, method, t, y, h, ynew, k, q, tmp, r)
+                stats[STAT_NFEV] += _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r)
                 q_ready = True
             while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
                 s = (t_eval[i_eval] - t) / h
@@ -725,5 +803,5 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
     return ts, ys, n_out, status, t, y, stats, ev_t[:n_ev], ev_y[:n_ev], ev_dir[:n_ev]
 
 
-# from Python: one compiled integrator per model kind (argument 0, a constant)
-integrate = ByLiteral(_integrate, _integrate.py_func.__doc__)
+# from Python: one compiled integrator per model kind and method (arguments 0 and 8, constants)
+integrate = ByLiteral(_integrate, _integrate.py_func.__doc__, literal=(0, 8))

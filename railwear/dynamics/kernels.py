@@ -927,15 +927,23 @@ def disk_wheel_rhs(t, y, p, surf, dydt):
 @njit(cache=True)
 def disk_wheel_outputs(t, y, p, surf, out):
     """Outputs per time: ``N, creepage, Fx, power, x_c, u_bar, delta`` (see ``_disk_contact``)."""
-    vals = _disk_contact(t, y, p, surf)
+    vals = disk_contact(t, y, p, surf)
     for k in range(DW_N_OUTPUTS):
         out[k] = vals[k]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
+def disk_contact(t, y, p, surf):
+    """``_disk_contact`` called, not inlined, by every use but the right-hand side (outputs, event,
+    swept power): one compiled copy for them all, where each inlined copy was compiled again
+    (the energy deposit's four took about 10 s of a cold run)."""
+    return _disk_contact(t, y, p, surf)
+
+
+@njit(cache=True)
 def disk_wheel_event(t, y, p, surf):
     """Contact event function: the approach ``delta`` [m]; zero at contact loss and regain."""
-    return _disk_contact(t, y, p, surf)[6]
+    return disk_contact(t, y, p, surf)[6]
 
 
 @njit(cache=True, inline="always")
@@ -993,7 +1001,7 @@ def _contact_power(kind, t, y, p, surf):
         return None
     if kind.literal_value == KIND_DISK_WHEEL:
         def impl(kind, t, y, p, surf):
-            power = _disk_contact(t, y, p, surf)[3]
+            power = disk_contact(t, y, p, surf)[3]
             return p[DW_INITIAL_ANGLE] + p[DW_SPEED] / p[DW_RADIUS] * t + y[0], power
         return impl
     return lambda kind, t, y, p, surf: (0.0, 0.0)
