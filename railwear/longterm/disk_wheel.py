@@ -288,12 +288,18 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
         speeds, peaks = self.service.draw(rng, self.samples)
         phases = rng.uniform(0.0, 2.0 * np.pi, self.samples)
         for v, k, phase, where in zip(speeds, peaks, phases, self.positions(rng, self.samples)):
-            model = replace(self.model, speed=float(v), radius_deviation=shape, initial_angle=float(phase),
-                            initial_lift=start_lift(self.model, shape, phase), **self.service.at_peak(self.model, k))
+            model = self.drawn(shape, v, k, phase)
             dyn = self.dynamics(model)
             p, surf = model.params(), model.surface()
             y, where, t0 = self._transient(model, dyn, p, surf, where, cost)
             yield model, dyn, p, surf, y, t0, where
+
+    def drawn(self, shape, speed, peak, phase):
+        """The model of one draw over the frozen ``shape`` (m): at ``speed`` (m/s), the service's
+        ``peak`` (its traction torque over a duty cycle) and contact ``phase`` (rad), started at
+        the static approach there."""
+        return replace(self.model, speed=float(speed), radius_deviation=shape, initial_angle=float(phase),
+                       initial_lift=start_lift(self.model, shape, phase), **self.service.at_peak(self.model, peak))
 
     def draw(self, u, rng):
         """One Monte Carlo set over the frozen ``u`` (m): ``(rates, cost)``, ``rates`` the depth
@@ -343,7 +349,7 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
         rate, error, spent = self.statistics(u, rng)
         for k, v in spent.items():
             cost[k] += v
-        return rate, error, float(rate.sum() * self.cell_volume(u.size)), None
+        return rate, error, float(rate.sum() * self.cell_volume(u.shape[-1])), None
 
     def carried(self, where):
         """The track position kept in a coupled run's carry (none here)."""
@@ -398,18 +404,24 @@ class DiskWheel(RadiusBody, name="disk_wheel"):
         import xarray as xr
 
         saved = np.asarray(records["u"])
-        n = saved.shape[1]
-        removed = (saved[0] - saved).sum(1) * self.cell_volume(n)
-        data = {"u": (("time", "angle"), saved, {"units": "m", "long_name": "radius deviation from the nominal radius"}),
+        n = saved.shape[-1]
+        removed = (saved[0] - saved).reshape(saved.shape[0], -1).sum(1) * self.cell_volume(n)
+        dims = ("time", *self.batch_coordinates(), "angle")
+        data = {"u": (dims, saved, {"units": "m", "long_name": "radius deviation from the nominal radius"}),
                 "removed_volume": ("time", removed, {"units": "m3", "long_name": "volume removed from the tread"}),
                 "law_volume": ("time", np.asarray(records["law_volume"], float),
                                {"units": "m3", "long_name": "volume of the wear law"})}
         if error is not None:
-            data["u_standard_error"] = (("time", "angle"), np.asarray(error),
+            data["u_standard_error"] = (dims, np.asarray(error),
                                         {"units": "m", "long_name": "Monte Carlo standard error of u"})
         coords = time_coordinates(times, self.life_distance, self.service.mean)
         coords["angle"] = ("angle", 2 * np.pi * np.arange(n) / n, {"units": "rad", "long_name": "angle round the wheel"})
+        coords.update(self.batch_coordinates())
         return describe(xr.Dataset(data, coords=coords, attrs=attrs), self.model.radius)
+
+    def batch_coordinates(self):
+        """The coordinates ``u`` has between ``time`` and ``angle`` (here none: one wheel)."""
+        return {}
 
     def fingerprint_parts(self):
         return (repr(self.law), self.band_width, self.life_distance, self.service, self.revolutions,

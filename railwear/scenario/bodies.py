@@ -195,17 +195,26 @@ class VehicleTrackSection(RollingWheel):
                                   self.wheel_mode_damping_ratios)))
 
     def build(self, scenario, speed=None):
-        """The wheel on the time-domain track (a ring of ``track.ring_sleepers`` bays)."""
+        """The wheel on the time-domain track (a ring of ``track.ring_sleepers`` bays); with
+        ``wheel_positions_m`` all the wheels on it (the stepwise strategy only)."""
         from railwear.longterm.vehicle_track_body import VehicleTrackBody, ring_for
 
         service, case, t = _build().service_speeds(scenario), self.case(scenario), scenario.track
-        self.one_wheel("the time-domain vehicle-track body")
+        if scenario.strategy.kind != "stepwise":
+            self.one_wheel(f"the time-domain vehicle-track body under the {scenario.strategy.kind} strategy")
         if case.wheel_modes:
             raise ScenarioError("body.wheel_mode_frequencies_hz: the time-domain vehicle-track body has no flexible "
                                 "wheelset modes; use the fourier or multiplier strategy")
-        return VehicleTrackBody(case.wheel(service.mean if speed is None else speed), _build().wear_law(scenario),
-                                case.band_width, _build().life_distance(scenario), service, **self.settings(),
-                                ring=ring_for(case.track, t.ring_sleepers, t.ring_max_frequency_hz))
+        wheels = {"wheel_positions": tuple(self.wheel_positions_m)} if self.several_wheels else {}
+        try:
+            return VehicleTrackBody(case.wheel(service.mean if speed is None else speed), _build().wear_law(scenario),
+                                    case.band_width, _build().life_distance(scenario), service, **self.settings(),
+                                    ring=ring_for(case.track, t.ring_sleepers, t.ring_max_frequency_hz), **wheels)
+        except ScenarioError as e:  # the wheels' spacing on the ring: the scenario's name for it
+            if str(e).startswith("wheel_positions:"):
+                raise ScenarioError(f"body.wheel_positions_m{str(e)[len('wheel_positions'):]} (or raise "
+                                    "track.ring_sleepers)") from None
+            raise
 
     @property
     def several_wheels(self) -> bool:
@@ -216,7 +225,8 @@ class VehicleTrackSection(RollingWheel):
         """Refuse several wheels, naming the field, for ``what`` (a model of one wheel)."""
         if self.several_wheels:
             raise ScenarioError(f"body.wheel_positions_m: {what} carries one wheel; several wheels on one rail run "
-                                "with the Fourier technique (strategy fourier, or multiplier with local = \"none\")")
+                                "with the Fourier technique (strategy fourier, or multiplier with local = \"none\") "
+                                "or on the time-domain track with the stepwise strategy")
 
     def wheels(self, scenario, speed):
         """The :class:`~railwear.longterm.vehicle_track.WheelsOnRail` of ``wheel_positions_m`` at
