@@ -15,6 +15,11 @@ exactly; likewise the mean radius falls by ``s Σ_k p_k r_k / V_k`` (``r_k`` its
 averaged technique (:class:`~railwear.longterm.fourier.FourierCycle`) keeps seconds at the
 cycle's mean speed ``V̄ = 1 / Σ_k p_k / V_k`` (distance over time).
 
+**Stepped strategies run the segments in proportion.** Frozen-geometry draws take segment ``k``
+with the probability ``p_k`` (:class:`~railwear.longterm.disk_wheel.DutyService`); the direct
+strategy runs every segment from its own settled state over the same surface and weighs its wear
+per distance by ``p_k`` (:mod:`railwear.longterm.direct`).
+
 **A line.** :func:`line_cycle` derives the distance-weighted segments of a run between stations
 ``spacing`` apart: accelerate at ``a`` to the top speed, cruise, brake at ``b`` (a triangle when
 the spacing is too short to reach the top speed). Each phase is cut into ``m`` bins of equal
