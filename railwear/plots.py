@@ -55,8 +55,9 @@ def _rows(ds):
     if not batch:
         return [(f"{m_s_to_kmh(float(ds.speed)):g} km/h", ds)]
     dim = batch[0]
-    return [(f"{m_s_to_kmh(float(ds.speed[i])):g} km/h" if dim == "speed" else f"member {i}", ds.isel({dim: i}))
-            for i in range(ds.sizes[dim])]
+    names = {"speed": lambda i: f"{m_s_to_kmh(float(ds.speed[i])):g} km/h",
+             "wheel": lambda i: f"wheel at {float(ds.wheel[i]):g} m"}  # several wheels on one rail
+    return [(names.get(dim, lambda i: f"member {i}")(i), ds.isel({dim: i})) for i in range(ds.sizes[dim])]
 
 
 def tick_number(value, span):

@@ -217,6 +217,7 @@ def summary(ds: xr.Dataset):
         entry.update(polygon)
         why.update(notes)
         entry.update(_wheels(d, entry["dominant_order"]))
+        entry.update(_wheel_on_rail(d, entry["dominant_order"], life))
         out.append(_defined(entry, why))
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
             "railwear_version": ds.attrs.get("railwear_version", ""), **_demand(ds), **_scope(ds), "runs": out}
@@ -236,6 +237,20 @@ def _wheels(d, n):
             "combination": {"order": int(n), "amplitudes": [round(float(a), 4) for a in at.combination_amplitude.values],
                             "phases_deg": [180 - (180 - round(float(np.degrees(p)), 2)) % 360  # in (-180, 180]
                                            for p in at.combination_phase.values]}}
+
+
+def _wheel_on_rail(d, n, life):
+    """One wheel of several on the time-domain track (``d.linear_growth_rate``): its dominant
+    order's amplitude (um) at the end and, beside its share and phase (deg, against the first
+    wheel) among the wheels' harmonics, the linear model's fastest combination of that order:
+    its growth per 10 000 km, this wheel's share and phase in it."""
+    if "linear_growth_rate" not in d or not n:
+        return {}
+    degrees = {k: round(float(np.degrees(d[k])), 1) + 0.0 for k in ("linear_phase", "measured_phase")}  # never -0
+    return {"dominant_amplitude_um": float(d.amplitude.sel(order=n)) / UM,
+            "linear_growth_per_10000_km": growth_per_10000_km(float(d.linear_growth_rate), life) if life > 0 else
+            float("nan"), "linear_share": float(d.linear_share), "linear_phase_deg": degrees["linear_phase"],
+            "measured_share": float(d.measured_share), "measured_phase_deg": degrees["measured_phase"]}
 
 
 def _scope(ds):
@@ -434,6 +449,14 @@ def run_lines(r):
         else:
             lines.append(f"order-{r['dominant_order']} polygon: wavelength {r['wavelength_mm']:.0f} mm on the tread, "
                          f"passing at {r['passing_frequency_hz']:.1f} Hz{growth}")
+    if "dominant_amplitude_um" in r:
+        linear = (f"the linear model's fastest combination of order {r['dominant_order']} grows "
+                  f"{percent(r['linear_growth_per_10000_km'])} per 10 000 km with this wheel at {r['linear_share']:.2f} "
+                  f"of the largest, {r['linear_phase_deg']:+.0f} deg from the first" if "linear_share" in r else
+                  "no linear model to compare (it takes one speed and no duty cycle)")
+        lines.append(f"wheel at {r['wheel']:g} m: order {r['dominant_order']}, {r['dominant_amplitude_um']:.2f} um at the "
+                     f"end{_growth_text(r, 'dominant_growth_per_10000_km')}, at {r['measured_share']:.2f} of the "
+                     f"wheels' largest, {r['measured_phase_deg']:+.0f} deg from the first; {linear}")
     if "combination" in r:
         c = r["combination"]
         lines.append(f"wheels at {', '.join(f'{x:g}' for x in r['wheel_positions_m'])} m on one rail: order {c['order']} "

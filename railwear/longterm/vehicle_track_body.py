@@ -171,14 +171,14 @@ class VehicleTrackBody(DiskWheel, name="vehicle_track"):
         ``λ L / V``, with the grid's filter ``sinc³(n / cells)``: the rate the cells can show)
         and each wheel's share of that combination (``|v_a| / max |v|``) and phase against the
         first wheel (``arg v_a / v_0``, rad), beside the same of the wheels' order-``n``
-        harmonics at the end (``rfft`` coefficients, the linear model's convention). Only where
-        the service is one speed (no scatter, no duty cycle): elsewhere the result has none."""
-        service = self.service
-        if isinstance(service, DutyService) or len(service.peaks) != 1 or service.scatter > 0:
-            return ds
+        harmonics at the end (``rfft`` coefficients, the linear model's convention). The linear
+        model only where the service is one speed (no duty cycle), at that speed (a scatter about
+        it is not averaged over): NaN elsewhere."""
         from railwear.longterm.vehicle_track import VehicleTrackModel, WheelsOnRail, growing_combinations
 
-        wheels = WheelsOnRail(VehicleTrackModel(self.model, self.ring.track), self.wheel_positions)
+        service = self.service
+        linear = not isinstance(service, DutyService) and len(service.peaks) == 1
+        wheels = WheelsOnRail(VehicleTrackModel(self.model, self.ring.track), self.wheel_positions) if linear else None
         u_end = ds.u.isel(time=-1).values
         cells = u_end.shape[-1]
         harmonics = np.fft.rfft(u_end, axis=-1)
@@ -187,14 +187,16 @@ class VehicleTrackBody(DiskWheel, name="vehicle_track"):
         for a, n in enumerate(np.asarray(ds.dominant_order.values, float)):
             if not (np.isfinite(n) and 1 <= n < cells // 2):
                 continue
-            n = int(n)
-            lam, modes = growing_combinations(wheels.rate_matrix([n], self.law, self.band_width))
-            v, h = modes[0, :, 0], harmonics[:, n]
-            out["rate"][a] = lam[0, 0].real * self.life_distance / self.model.speed * np.sinc(n / cells) ** 3
-            out["share"][a] = abs(v[a]) / np.max(np.abs(v))
-            out["phase"][a] = np.angle(v[a] / v[0])
-            out["measured_share"][a] = abs(h[a]) / np.max(np.abs(h))
-            out["measured_phase"][a] = np.angle(h[a] / h[0])
+            n, h = int(n), harmonics[:, int(n)]
+            if abs(h[0]) > 0:
+                out["measured_share"][a] = abs(h[a]) / np.max(np.abs(h))
+                out["measured_phase"][a] = np.angle(h[a] / h[0])
+            if linear:
+                lam, modes = growing_combinations(wheels.rate_matrix([n], self.law, self.band_width))
+                v = modes[0, :, 0]
+                out["rate"][a] = lam[0, 0].real * self.life_distance / self.model.speed * np.sinc(n / cells) ** 3
+                out["share"][a] = abs(v[a]) / np.max(np.abs(v))
+                out["phase"][a] = np.angle(v[a] / v[0])
         words = "at the wheel's dominant order at the end"
         ds["linear_growth_rate"] = ("wheel", out["rate"], {
             "units": "1", "long_name": f"fastest growth rate of the linear several-wheel model {words}, per unit "
