@@ -328,10 +328,15 @@ def to_toml(scenario: Scenario):
     return tomli_w.dumps(scenario.applicable())
 
 
+_ADDED_LATER = {"operation": ("daily_distance_km",), "body": ("wheel_positions_m",)}
+
+
 def scenario_hash(scenario: Scenario):
-    """SHA-256 of the scenario's canonical JSON (hex). A field added later with no effect on the
-    run left unset (``operation.daily_distance_km``) is left out, so the hashes of earlier
-    scenarios and checkpoints hold."""
-    unset = {"operation": {"daily_distance_km"}} if scenario.operation.daily_distance_km is None else None
-    canonical = json.dumps(scenario.model_dump(mode="json", exclude=unset), sort_keys=True, separators=(",", ":"))
+    """SHA-256 of the scenario's canonical JSON (hex). Fields added later, left unset
+    (``_ADDED_LATER``: no effect on the run), are left out, so the hashes of earlier scenarios and
+    checkpoints hold."""
+    unset = {section: names for section, fields in _ADDED_LATER.items()
+             if (names := {f for f in fields if getattr(getattr(scenario, section), f, 0) is None})}
+    canonical = json.dumps(scenario.model_dump(mode="json", exclude=unset or None), sort_keys=True,
+                           separators=(",", ":"))
     return hashlib.sha256(canonical.encode()).hexdigest()
