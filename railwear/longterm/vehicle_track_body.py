@@ -29,14 +29,14 @@ Laws proportional to the frictional power (``law.beta``, the energy law) only.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from railwear.dynamics.disk_wheel_track import WheelOnRing
 from railwear.dynamics.wheels_track import WheelsOnRing
 from railwear.errors import ScenarioError
-from railwear.longterm.disk_wheel import DiskWheel, DutyService, depth_per_energy, wheel_turn
+from railwear.longterm.disk_wheel import DiskWheel, DutyService, depth_per_energy, start_lift, wheel_turn
 from railwear.track.modal import RingTrack
 
 __all__ = ["VehicleTrackBody", "ring_for"]
@@ -147,11 +147,52 @@ class VehicleTrackBody(DiskWheel, name="vehicle_track"):
             rates[i] = depth / (seconds * model.speed) * self.life_distance
         return rates, cost
 
+    # coupled: with several wheels every segment runs all wheels on from where the last ended
     def couple(self, u, rng, acceleration, cost):
-        if self.several:
-            raise ScenarioError("wheel_positions: the coupled (direct) run carries one wheel; several wheels on "
-                                "the time-domain track run with the stepwise strategy")
-        return super().couple(u, rng, acceleration, cost)
+        if not self.several:
+            return super().couple(u, rng, acceleration, cost)
+        shape = u - u.mean(-1, keepdims=True)
+        models, dyn, p, _, _ = self._derived(shape, acceleration)
+        where = self.positions(rng, 1)[0]
+        y, t = dyn.static_state(where, [m.initial_lift for m in models], models), 0.0
+        if self.transient_revolutions > 0:
+            y, where, t, n = self.run(models[0], dyn, p, [m.surface() for m in models], y, where, 0.0, np.zeros(0),
+                                      self.transient_revolutions)
+            cost["rhs_evaluations"] += n
+        cost["revolutions"] += self.n_wheels * self.transient_revolutions
+        return {"shape": shape, "seconds": t, "state": y, **self.carried(where)}
+
+    def _derived(self, shape, acceleration):
+        """:meth:`DiskWheel._derived`; with several wheels each wheel's model over its row of
+        ``shape`` (a list), the dynamics of them all and their parameters (a list)."""
+        if not self.several:
+            return super()._derived(shape, acceleration)
+        key = (np.asarray(shape, float).tobytes(), acceleration)
+        if self._coupled.get("key") != key:
+            models = [replace(self.model, radius_deviation=row,
+                              initial_lift=start_lift(self.model, row, self.model.initial_angle)) for row in shape]
+            dyn = self.dynamics(models[0])
+            gain = acceleration * depth_per_energy(models[0], shape.shape[-1], self.beta, self.band_width)
+            dT = acceleration * self.model.speed * self.seconds(models[0], dyn, 1, self.updates_per_revolution) \
+                / self.life_distance
+            self._coupled.clear()
+            self._coupled.update(key=key, derived=(models, dyn, [m.params() for m in models], gain, dT))
+        return self._coupled["derived"]
+
+    def segment(self, u, carry, acceleration, remaining, cost):
+        """:meth:`DiskWheel.segment`; with several wheels all of them over their current surfaces,
+        each wheel's frictional energy worn off its own cells with ``A β``."""
+        if not self.several:
+            return super().segment(u, carry, acceleration, remaining, cost)
+        models, dyn, p, gain, dT = self._derived(carry["shape"], acceleration)
+        surf = [m.surface_for(row - row.mean()) for m, row in zip(models, u)]
+        energy = np.zeros(u.shape)
+        y, where, seconds, n = self.run(models[0], dyn, p, surf, carry["state"], carry["position"], carry["seconds"],
+                                        energy, 1, self.updates_per_revolution)
+        cost["rhs_evaluations"] += n
+        cost["revolutions"] += self.n_wheels / self.updates_per_revolution
+        carry = {"shape": carry["shape"], "seconds": carry["seconds"] + seconds, "state": y, **self.carried(where)}
+        return gain * energy, dT, False, acceleration * self.beta * float(energy.sum()), None, carry
 
     def batch_coordinates(self):
         """With several wheels the ``wheel`` coordinate: each wheel's distance behind the first (m)."""

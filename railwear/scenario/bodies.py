@@ -196,11 +196,11 @@ class VehicleTrackSection(RollingWheel):
 
     def build(self, scenario, speed=None):
         """The wheel on the time-domain track (a ring of ``track.ring_sleepers`` bays); with
-        ``wheel_positions_m`` all the wheels on it (the stepwise strategy only)."""
+        ``wheel_positions_m`` all the wheels on it (the stepwise and direct strategies)."""
         from railwear.longterm.vehicle_track_body import VehicleTrackBody, ring_for
 
         service, case, t = _build().service_speeds(scenario), self.case(scenario), scenario.track
-        if scenario.strategy.kind != "stepwise":
+        if scenario.strategy.kind not in ("stepwise", "direct"):
             self.one_wheel(f"the time-domain vehicle-track body under the {scenario.strategy.kind} strategy")
         if case.wheel_modes:
             raise ScenarioError("body.wheel_mode_frequencies_hz: the time-domain vehicle-track body has no flexible "
@@ -226,7 +226,7 @@ class VehicleTrackSection(RollingWheel):
         if self.several_wheels:
             raise ScenarioError(f"body.wheel_positions_m: {what} carries one wheel; several wheels on one rail run "
                                 "with the Fourier technique (strategy fourier, or multiplier with local = \"none\") "
-                                "or on the time-domain track with the stepwise strategy")
+                                "or on the time-domain track with the stepwise or direct strategy")
 
     def wheels(self, scenario, speed):
         """The :class:`~railwear.longterm.vehicle_track.WheelsOnRail` of ``wheel_positions_m`` at

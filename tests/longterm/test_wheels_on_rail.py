@@ -154,7 +154,7 @@ def test_the_scenario_refuses_what_one_wheel_models_cannot_take():
         with pytest.raises(ScenarioError, match="body.wheel_positions_m"):
             load_scenario("metro", {"body.wheel_positions_m": positions})
     with pytest.raises(ScenarioError, match="body.wheel_positions_m: the time-domain"):
-        build.strategy(load_scenario("metro", {**BOGIE, "strategy.kind": "direct"}))
+        build.body(load_scenario("metro", {**BOGIE, "strategy.kind": "phenomenological"}))
 
 
 def test_railwear_run_on_a_bogie_file(tmp_path):
