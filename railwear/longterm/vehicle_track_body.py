@@ -13,9 +13,9 @@ new is where the wheel is on the track: each draw starts at a uniformly random p
 the ring (so over a random offset in the sleeper bay) with the track at rest under the static
 load there, and the coupled run carries the position on.
 
-Several wheels on one rail (``wheel_positions``, m behind the first: ``(0, 2.5)`` a bogie), frozen
-geometry only: :class:`~railwear.dynamics.wheels_track.WheelsOnRing` runs every wheel of a draw
-together over the ring, each over its own frozen radius deviation ``u_a`` (the wear variable is
+Several wheels on one rail (``wheel_positions``, m behind the first: ``(0, 2.5)`` a bogie):
+:class:`~railwear.dynamics.wheels_track.WheelsOnRing` runs every wheel of a draw (or of a coupled
+segment) together over the ring, each over its own radius deviation ``u_a`` (the wear variable is
 ``(wheels, angle)``) and each sweeping its frictional energy onto its own cells. A draw takes one
 speed, one position of the first wheel and one phase for all wheels: the wheels of a vehicle roll
 the same distance, so their polygons keep their relative angles, as in the linear model
@@ -57,7 +57,7 @@ class VehicleTrackBody(DiskWheel, name="vehicle_track"):
     ``life_distance`` [m] per unit normed time, ``service`` speeds, revolutions, draws,
     updates per revolution); ``integration`` and ``outputs_per_revolution`` are not used.
     ``wheel_positions`` (m behind the first, ``None`` or one: one wheel): several identical
-    wheels on the rail, each with its own radius deviation (stepwise strategy only)."""
+    wheels on the rail, each with its own radius deviation."""
 
     ring: RingTrack | None = None
     dt: float = 1e-4
