@@ -226,13 +226,17 @@ def summary(ds: xr.Dataset):
 def _wheels(d, n):
     """Several wheels on one rail: their positions (m) and the combination in which order ``n``
     grows on them, amplitudes relative to the largest and phases (degrees) against the first."""
-    if "combination_phase" not in d or not n:
+    if ("combination_phase" not in d and "wheel_growth_per_km" not in d) or not n:
         return {}
     at = d.sel(order=n)
     modes = {}
     if "rail_mode_held" in d:
         modes = {"rail_modes_hz": {k: [None if np.isnan(v) else round(float(v), 1) for v in d[f"rail_mode_{k}"].values]
                                    for k in ("pinned", "clamped", "held")}}
+    if "wheel_growth_per_km" in d:  # phases drifting: each wheel on its own
+        return {**modes, "wheel_positions_m": [float(x) for x in d.wheel_position.values],
+                "wheel_growth": {"order": int(n), "per_10000_km": [float(np.expm1(g * PER_10000_KM))
+                                                                   for g in at.wheel_growth_per_km.values]}}
     return {**modes, "wheel_positions_m": [float(x) for x in d.wheel_position.values],
             "combination": {"order": int(n), "amplitudes": [round(float(a), 4) for a in at.combination_amplitude.values],
                             "phases_deg": [180 - (180 - round(float(np.degrees(p)), 2)) % 360  # in (-180, 180]
@@ -457,6 +461,11 @@ def run_lines(r):
         lines.append(f"wheel at {r['wheel']:g} m: order {r['dominant_order']}, {r['dominant_amplitude_um']:.2f} um at the "
                      f"end{_growth_text(r, 'dominant_growth_per_10000_km')}, at {r['measured_share']:.2f} of the "
                      f"wheels' largest, {r['measured_phase_deg']:+.0f} deg from the first; {linear}")
+    if "wheel_growth" in r:
+        g = r["wheel_growth"]
+        lines.append(f"wheels at {', '.join(f'{x:g}' for x in r['wheel_positions_m'])} m on one rail, their polygons' "
+                     f"phases drifting: each grows on its own, order {g['order']} at "
+                     f"{', '.join(f'{p:+.0%}' for p in g['per_10000_km'])} per 10 000 km")
     if "combination" in r:
         c = r["combination"]
         lines.append(f"wheels at {', '.join(f'{x:g}' for x in r['wheel_positions_m'])} m on one rail: order {c['order']} "

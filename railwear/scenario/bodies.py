@@ -124,6 +124,9 @@ class VehicleTrackSection(RollingWheel):
     # couples no more (docs/vehicle_track.md, Several wheels on one rail); None: one wheel
     wheel_positions_m: Annotated[list[Annotated[float, Field(ge=0, le=100, allow_inf_nan=False)]],
                                  Field(min_length=1, max_length=MAX_WHEELS)] | None = None
+    # the wheels' polygons: "locked" at their relative angles (equal diameters), or "drifting" (the
+    # diameters of different axles differ; each wheel grows on its own); None: locked
+    wheel_phases: Literal["locked", "drifting"] | None = None
 
     sections: ClassVar[tuple] = ("track",)
     label: ClassVar[str] = "wheel on the discrete track"
@@ -170,6 +173,9 @@ class VehicleTrackSection(RollingWheel):
         x = self.wheel_positions_m
         if x is not None and (x[0] != 0 or any(b <= a for a, b in zip(x, x[1:]))):
             raise refuse("wheel_positions_m", f"the wheels' distances from the first (m): 0, then increasing, got {x}")
+        if self.wheel_phases is not None and not self.several_wheels:
+            raise refuse("wheel_phases", "the relative phases of several wheels' polygons: give wheel_positions_m "
+                                         "with two wheels or more")
         modes = len(self.wheel_mode_frequencies_hz)
         for name in ("wheel_mode_masses_kg", "wheel_mode_damping_ratios"):
             if len(getattr(self, name)) != modes:
@@ -206,6 +212,9 @@ class VehicleTrackSection(RollingWheel):
             raise ScenarioError("body.wheel_mode_frequencies_hz: the time-domain vehicle-track body has no flexible "
                                 "wheelset modes; use the fourier or multiplier strategy")
         wheels = {"wheel_positions": tuple(self.wheel_positions_m)} if self.several_wheels else {}
+        if self.phases == "drifting":
+            raise ScenarioError("body.wheel_phases: the time-domain track runs identical wheels, whose polygons keep "
+                                "their angles (locked); drifting phases run with the Fourier technique")
         try:
             return VehicleTrackBody(case.wheel(service.mean if speed is None else speed), _build().wear_law(scenario),
                                     case.band_width, _build().life_distance(scenario), service, **self.settings(),
@@ -215,6 +224,11 @@ class VehicleTrackSection(RollingWheel):
                 raise ScenarioError(f"body.wheel_positions_m{str(e)[len('wheel_positions'):]} (or raise "
                                     "track.ring_sleepers)") from None
             raise
+
+    @property
+    def phases(self) -> str:
+        """The wheels' relative phases, ``wheel_phases`` or ``"locked"``."""
+        return self.wheel_phases or "locked"
 
     @property
     def several_wheels(self) -> bool:
@@ -250,7 +264,7 @@ class VehicleTrackSection(RollingWheel):
             from railwear.longterm.vehicle_track import wheels_growth_map
 
             return wheels_growth_map(self.case(scenario), self.wheel_positions_m, speeds, orders,
-                                     _build().wear_law(scenario), scenario.track.bay_positions)
+                                     _build().wear_law(scenario), scenario.track.bay_positions, self.phases)
         return self.case(scenario).growth_map(speeds, orders, _build().wear_law(scenario), scenario.track.bay_positions)
 
 

@@ -159,7 +159,7 @@ def fourier_technique(scenario: Scenario):
         from railwear.longterm.vehicle_track import WheelsFourier
 
         return WheelsFourier(tuple(sc.body.wheels(sc, v) for sc, v in segments), law, band_width(scenario),
-                             tuple(float(p) for p in shares))
+                             tuple(float(p) for p in shares), scenario.body.phases)
 
     def at(sc, speed):
         model, band = linear_model(sc, speed)

@@ -195,3 +195,48 @@ def test_the_stability_map_of_a_bogie_says_it_maps_the_wheels_combination():
     ds = analysis.stability(load_scenario("metro", BOGIE), speeds_kmh=[60.0, 80.0], orders=[7, 8])
     assert ds.attrs["source"].endswith("; the fastest combination of the wheels at 0, 2.5 m")
     assert "wheels" not in analysis.stability("metro", speeds_kmh=[60.0], orders=[8]).attrs["source"]
+
+
+def test_drifting_phases_average_the_coupling_out(metro):
+    """Wheels of different diameters: wheel 2's order n reaches wheel 1 with a phase slipping at
+    ``Δ`` (rad/s) on its tread. In wheel 1's frame the pair evolves with the constant matrix
+    ``K = [[a, b], [b', d + iΔ]]`` (wheel 2's amplitude times ``e^{iΔt}``); its fastest real rate
+    is the locked eigen-rate at ``Δ = 0`` and tends to wheel 1's own rate ``Re a`` as ``1/Δ``, the
+    drifting model's rate."""
+    model, law, band, _ = metro
+    M = WheelsOnRail(model, (0.0, 2.5)).rate_matrix([8], law, band)[0]
+    (a, b), (c, d) = M
+    scale = abs(b)
+
+    def rates(delta):  # wheel 1's branch, then wheel 2's (the one rotating at Δ)
+        lam = np.linalg.eigvals(np.array([[a, b], [c, d + 1j * delta]]))
+        return lam[np.argsort(lam.imag)].real
+
+    lam, _ = WheelsOnRail(model, (0.0, 2.5)).rates([8], law, band)
+    np.testing.assert_allclose(rates(0.0).max(), lam[0, 0].real, rtol=1e-12)
+    errors = [np.max(np.abs(rates(k * scale) - [a.real, d.real])) for k in (50, 100, 200, 400)]
+    assert errors[-1] < 1e-3 * scale  # about |b|² / Δ
+    np.testing.assert_allclose(np.array(errors[:-1]) / np.array(errors[1:]), 2.0, rtol=0.05)  # first order in 1/Δ
+
+
+def test_a_bogie_with_drifting_phases_grows_each_wheel_at_its_own_rate(metro):
+    """``[body] wheel_phases = "drifting"``: the run's rate per order is the fastest wheel's own
+    ``M_jj``, the result gives each wheel's, the summary says so; one wheel is unchanged."""
+    from railwear import api, results
+
+    model, law, band, single = metro
+    ds = api.run(load_scenario("metro", {**BOGIE, "body.wheel_phases": "drifting"}))
+    own = np.diagonal(WheelsOnRail(model, (0.0, 2.5)).rate_matrix(ORDERS, law, band), axis1=1, axis2=2)
+    np.testing.assert_allclose(ds.harmonic_growth_rate.sel(order=ORDERS).values, own.real.max(axis=1), rtol=1e-12)
+    np.testing.assert_allclose(ds.wheel_growth_per_km.sel(order=ORDERS).values, own.real / model.speed * KM,
+                               rtol=1e-12)
+    assert "combination_phase" not in ds and ds.attrs["wheel_phases"] == "drifting"
+    locked = WheelsOnRail(model, (0.0, 2.5)).rates(ORDERS, law, band)[0].real
+    assert np.all(own.real.max(axis=1) <= locked[:, 0] + 1e-18)  # no faster than the locked pair
+    text = results.summary_text(results.summary(ds))
+    assert "wheels at 0, 2.5 m on one rail, their polygons' phases drifting: each grows on its own, order 8 at" in text
+    with pytest.raises(ScenarioError, match="body.wheel_phases: the relative phases"):
+        load_scenario("metro", {"body.wheel_phases": "drifting"})
+    with pytest.raises(ScenarioError, match="^body.wheel_phases: the time-domain"):
+        build.strategy(load_scenario("metro", {**BOGIE, "body.wheel_phases": "drifting", "strategy.kind": "stepwise"}))
+    assert scenario_hash(load_scenario("metro")) == scenario_hash(load_scenario("metro", {"body.wheel_phases": None}))
