@@ -58,7 +58,7 @@ from numba import njit  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
 from railwear.pde import Cubic, solve_evolution  # noqa: E402
-from railwear.pde.etdrk4 import pointwise  # noqa: E402
+from railwear.pde.etdrk4 import hermite_pieces, pointwise_pieces  # noqa: E402
 
 # This file is called pde.py: keep its folder off the import path, so that ``import pde`` finds
 # py-pde and not this script.
@@ -454,11 +454,13 @@ def _fft_floor(V, W, n, repeats):
 
 @njit
 def _wear_rate_cost(w, poly, tab_lo, tab_ds, tab_val, tab_der, repeats):
-    """``repeats`` times the wear-rate evaluations of one ETDRK4 step (4 on the whole batch)."""
+    """``repeats`` times the wear-rate evaluations of one ETDRK4 step (4 on the whole batch), the
+    tables' cubics built once as the compiled loop builds them."""
+    pieces = hermite_pieces(tab_ds, tab_val, tab_der)
     acc = 0.0
     for _ in range(repeats):
         for _stage in range(4):
-            acc += pointwise(w, poly, tab_lo, tab_ds, tab_val, tab_der)[0, 0]
+            acc += pointwise_pieces(w, poly, tab_lo, tab_ds, tab_val, tab_der, pieces)[0, 0]
     return acc
 
 

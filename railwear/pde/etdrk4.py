@@ -78,51 +78,107 @@ def etdrk4_coefficients(L, dt, n_contour=32):
 
 
 @njit(cache=True)
+def hermite_pieces(tab_ds, tab_val, tab_der):
+    """The cubic of each table interval in the local coordinate ``p`` in [0, 1), per batch row.
+
+    Row ``b`` holds ``(y0, d0, c2, c3)`` of interval ``j`` at ``4 j .. 4 j + 3``, so that the
+    table is ``y0 + p (d0 + p (c2 + p c3))`` there, with ``d = ds g'`` and ``c2 = 3 (y1 - y0) -
+    2 d0 - d1``, ``c3 = 2 (y0 - y1) + d0 + d1`` (the cubic Hermite basis in Horner form). The
+    sums are those :func:`pointwise` formed per point before, so the values are the same to the
+    bit. A table of one point gets one zero piece (never used).
+    """
+    nb, ntab = tab_val.shape
+    out = np.zeros((nb, 4 * max(ntab - 1, 1)))
+    for b in range(nb):
+        ds = tab_ds[b]
+        for j in range(ntab - 1):
+            y0, y1 = tab_val[b, j], tab_val[b, j + 1]
+            d0, d1 = ds * tab_der[b, j], ds * tab_der[b, j + 1]
+            out[b, 4 * j] = y0
+            out[b, 4 * j + 1] = d0
+            out[b, 4 * j + 2] = 3.0 * (y1 - y0) - 2.0 * d0 - d1
+            out[b, 4 * j + 3] = 2.0 * (y0 - y1) + d0 + d1
+    return out
+
+
+@njit(cache=True)
 def pointwise(w, poly, tab_lo, tab_ds, tab_val, tab_der):
     """``g(w)`` per batch row: ``sum_j poly[b, j] w^j`` plus a cubic Hermite table.
 
     The table of row ``b`` holds values and derivatives at ``tab_lo[b] + i * tab_ds[b]``; outside
     it the table continues linearly with its end slope. A table with no points is left out.
     """
+    return pointwise_pieces(w, poly, tab_lo, tab_ds, tab_val, tab_der,
+                            hermite_pieces(tab_ds, tab_val, tab_der))
+
+
+@njit(cache=True)
+def pointwise_pieces(w, poly, tab_lo, tab_ds, tab_val, tab_der, pieces):
+    """:func:`pointwise` with the table's cubics ``pieces`` from :func:`hermite_pieces`.
+
+    Each row goes in passes over its points: the polynomial, then the interval index ``j`` and
+    ``p`` (``t = (w - lo) / ds``, ``j = floor(t)``, ``p = t - j``), then the cubics, then the
+    linear continuation outside the table. Only the cubics' loads are scalar: the other passes
+    have no branch and no indirect load, and the compiler vectorises them.
+    """
     nb, n = w.shape
     out = np.empty_like(w)
     npoly = poly.shape[1]
     ntab = tab_val.shape[1]
     top = ntab - 1
+    last = float(max(top - 1, 0))  # the last interval's index
+    at = np.empty(n, np.int64)
+    cubic = np.empty(n)
     for b in range(nb):
         row, res = w[b], out[b]
-        if ntab:
-            lo, ds = tab_lo[b], tab_ds[b]
-            inv_ds = 1.0 / ds
-            val, der = tab_val[b], tab_der[b]
+        for i in range(n):
+            res[i] = 0.0
+        for j in range(npoly - 1, -1, -1):
+            c = poly[b, j]
+            for i in range(n):
+                res[i] = res[i] * row[i] + c
+        if ntab == 0:
+            continue
+        lo, ds = tab_lo[b], tab_ds[b]
+        inv_ds = 1.0 / ds
+        piece = pieces[b]
+        for i in range(n):
+            t = (row[i] - lo) * inv_ds
+            tc = t if t > 0.0 else 0.0  # clamped to a valid interval (a NaN to the first)
+            j0 = int(tc if tc < last else last)
+            at[i] = 4 * j0
+            cubic[i] = t - j0  # p, used only inside the table
+        for i in range(n):
+            k, p = at[i], cubic[i]
+            cubic[i] = piece[k] + p * (piece[k + 1] + p * (piece[k + 2] + p * piece[k + 3]))
+        y_lo, g_lo = tab_val[b, 0], tab_der[b, 0]
+        y_hi, g_hi = tab_val[b, top], tab_der[b, top]
+        x_hi = lo + top * ds
         for i in range(n):
             x = row[i]
-            acc = 0.0
-            for j in range(npoly - 1, -1, -1):
-                acc = acc * x + poly[b, j]
-            if ntab:
-                t = (x - lo) * inv_ds
-                if t > 0.0 and t < top:
-                    j0 = int(t)
-                    p = t - j0
-                    y0, y1 = val[j0], val[j0 + 1]
-                    d0, d1 = ds * der[j0], ds * der[j0 + 1]
-                    # The cubic Hermite basis, in Horner form.
-                    c2 = 3.0 * (y1 - y0) - 2.0 * d0 - d1
-                    c3 = 2.0 * (y0 - y1) + d0 + d1
-                    acc += y0 + p * (d0 + p * (c2 + p * c3))
-                elif t <= 0.0:
-                    acc += val[0] + der[0] * (x - lo)
-                else:  # above the table, or x not a number (then neither is the result)
-                    acc += val[top] + der[top] * (x - (lo + top * ds))
-            res[i] = acc
+            t = (x - lo) * inv_ds
+            below = y_lo + g_lo * (x - lo)
+            above = y_hi + g_hi * (x - x_hi)  # also where x is not a number (then neither is this)
+            res[i] += cubic[i] if (t > 0.0) & (t < top) else (below if t <= 0.0 else above)
     return out
 
 
 @njit(cache=True)
-def _nonlinear(v, n, m_in, m_out, poly, tab_lo, tab_ds, tab_val, tab_der):
-    w = np.fft.irfft(v * m_in, n, axis=-1)
-    return np.fft.rfft(pointwise(w, poly, tab_lo, tab_ds, tab_val, tab_der), axis=-1) * m_out
+def _transform(w_in, n, poly, tab_lo, tab_ds, tab_val, tab_der, pieces):
+    """``rfft(g(irfft(w_in)))``: the nonlinear term before its output multiplier ``m_out``."""
+    w = np.fft.irfft(w_in, n, axis=-1)
+    return np.fft.rfft(pointwise_pieces(w, poly, tab_lo, tab_ds, tab_val, tab_der, pieces), axis=-1)
+
+
+@njit(cache=True)
+def _times(v, m):
+    """``v m`` element by element."""
+    out = np.empty_like(v)
+    nb, nk = v.shape
+    for b in range(nb):
+        for i in range(nk):
+            out[b, i] = v[b, i] * m[b, i]
+    return out
 
 
 @njit(cache=True)
@@ -197,36 +253,41 @@ def _accept(v, v_new, n, active, stop_time, t_step, dt, u_ref, depth_limit, blow
 
 
 @njit(cache=True)
-def _stage(E2, v, Q, N):
-    """``E2 v + Q N`` in one pass."""
-    out = np.empty_like(v)
+def _stage(E2, v, Q, R, m_out, m_in):
+    """``N = R m_out`` and the stage ``s = E2 v + Q N`` in one pass: ``(N, s, s m_in)``."""
+    N, out, out_in = np.empty_like(v), np.empty_like(v), np.empty_like(v)
     nb, nk = v.shape
     for b in range(nb):
         for i in range(nk):
+            N[b, i] = R[b, i] * m_out[b, i]
             out[b, i] = E2[b, i] * v[b, i] + Q[b, i] * N[b, i]
-    return out
+            out_in[b, i] = out[b, i] * m_in[b, i]
+    return N, out, out_in
 
 
 @njit(cache=True)
-def _stage_c(E2, a, Q, Nb, Nv):
-    """``E2 a + Q (2 Nb - Nv)`` in one pass."""
-    out = np.empty_like(a)
+def _stage_c(E2, a, Q, R, m_out, Nv, m_in):
+    """``Nb = R m_out`` and the stage ``c = E2 a + Q (2 Nb - Nv)`` in one pass: ``(Nb, c, c m_in)``."""
+    Nb, out, out_in = np.empty_like(a), np.empty_like(a), np.empty_like(a)
     nb, nk = a.shape
     for b in range(nb):
         for i in range(nk):
+            Nb[b, i] = R[b, i] * m_out[b, i]
             out[b, i] = E2[b, i] * a[b, i] + Q[b, i] * (2 * Nb[b, i] - Nv[b, i])
-    return out
+            out_in[b, i] = out[b, i] * m_in[b, i]
+    return Nb, out, out_in
 
 
 @njit(cache=True)
-def _combine(v, E, f1, f2, f3, Nv, Na, Nb, Nc):
-    """The ETDRK4 update ``E v + f1 Nv + 2 f2 (Na + Nb) + f3 Nc`` in one pass."""
+def _combine(v, E, f1, f2, f3, Nv, Na, Nb, Rc, m_out):
+    """The ETDRK4 update ``E v + f1 Nv + 2 f2 (Na + Nb) + f3 Nc`` with ``Nc = Rc m_out``, in one pass."""
     out = np.empty_like(v)
     nb, nk = v.shape
     for b in range(nb):
         for i in range(nk):
+            Nc = Rc[b, i] * m_out[b, i]
             out[b, i] = (E[b, i] * v[b, i] + Nv[b, i] * f1[b, i]
-                         + 2 * (Na[b, i] + Nb[b, i]) * f2[b, i] + Nc[b, i] * f3[b, i])
+                         + 2 * (Na[b, i] + Nb[b, i]) * f2[b, i] + Nc * f3[b, i])
     return out
 
 
@@ -265,16 +326,16 @@ def advance_compiled(
             cin, cout, cpoly = _rows(m_in, idx), _rows(m_out, idx), _rows(poly, idx)
             clo, cds = _rows(tab_lo, idx), _rows(tab_ds, idx)
             cval, cder, cref = _rows(tab_val, idx), _rows(tab_der, idx), _rows(u_ref, idx)
+            cpieces = hermite_pieces(cds, cval, cder)
             cdt = _rows(dt, idx)
         cv = _rows(v, idx) if idx.size != nb else v
-        Nv = _nonlinear(cv, n, cin, cout, cpoly, clo, cds, cval, cder)
-        a = _stage(cE2, cv, cQ, Nv)
-        Na = _nonlinear(a, n, cin, cout, cpoly, clo, cds, cval, cder)
-        b = _stage(cE2, cv, cQ, Na)
-        Nb = _nonlinear(b, n, cin, cout, cpoly, clo, cds, cval, cder)
-        c = _stage_c(cE2, a, cQ, Nb, Nv)
-        Nc = _nonlinear(c, n, cin, cout, cpoly, clo, cds, cval, cder)
-        v_new = _combine(cv, cE, cf1, cf2, cf3, Nv, Na, Nb, Nc)
+        terms = (n, cpoly, clo, cds, cval, cder, cpieces)
+        # Each stage's pass also forms its N (the transform times m_out) and the next input
+        # (times m_in), so the transforms are the only other passes over the batch.
+        Nv, a, a_in = _stage(cE2, cv, cQ, _transform(_times(cv, cin), *terms), cout, cin)
+        Na, b, b_in = _stage(cE2, cv, cQ, _transform(a_in, *terms), cout, cin)
+        Nb, c, c_in = _stage_c(cE2, a, cQ, _transform(b_in, *terms), cout, Nv, cin)
+        v_new = _combine(cv, cE, cf1, cf2, cf3, Nv, Na, Nb, _transform(c_in, *terms), cout)
         cactive = np.ones(idx.size, dtype=np.bool_)
         cstop = _rows(stop_time, idx)
         status, _ = _accept(cv, v_new, n, cactive, cstop, t0 + step * cdt, cdt, cref,
