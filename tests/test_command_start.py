@@ -28,3 +28,26 @@ def test_a_computation_in_a_test_process_leaves_the_collector_alone():
     with cli._Progress("railwear test"):
         pass
     assert gc.get_threshold() == before and gc.get_freeze_count() == frozen
+
+
+def _imported(*args, cwd):
+    """Run ``python -X importtime -m railwear ARGS`` in a fresh interpreter; the names of the
+    modules it imported (exit status 0 asserted)."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-X", "importtime", "-m", "railwear", *map(str, args)], cwd=cwd,
+                          capture_output=True, text=True, timeout=600, stdin=subprocess.DEVNULL)
+    assert done.returncode == 0, done.stderr[-2000:]
+    return {line.split("|")[-1].strip() for line in done.stderr.splitlines() if line.startswith("import time:")}
+
+
+def test_a_fourier_run_and_plot_leave_the_contact_geometry_and_plot_numba_unimported(tmp_path):
+    """``railwear.geometry`` imports its contact geometry (numba, the contact package) on first use:
+    the metro run reads only the out-of-roundness modules, and ``railwear plot`` compiles nothing,
+    so it does not import numba at all (0.15-0.3 s of its CPU)."""
+    run = _imported("run", "--no-figures", "-o", tmp_path, cwd=tmp_path)
+    assert "railwear.geometry.roundness" in run and "railwear.geometry.contact_geometry" not in run
+    plot = _imported("plot", tmp_path / "result.nc", cwd=tmp_path)
+    assert "railwear.plots" in plot and (tmp_path / "spectrum.png").is_file()
+    assert "numba" not in plot and "railwear.geometry.contact_geometry" not in plot

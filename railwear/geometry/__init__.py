@@ -8,4 +8,16 @@ from railwear.geometry.profiles import (  # noqa: E402
     read_simpack_profile,
     worn_profile,
 )
-from railwear.geometry.contact_geometry import contact_table, equivalent_conicity, gauge_point  # noqa: E402
+
+_CONTACT_GEOMETRY = ("contact_table", "equivalent_conicity", "gauge_point")
+
+
+def __getattr__(name):
+    """The contact geometry's entry points, imported on first use: the module brings numba and the
+    contact package, which a run that reads only the out-of-roundness modules (a Fourier run,
+    ``railwear plot``) does not need."""
+    if name in _CONTACT_GEOMETRY:
+        from railwear.geometry import contact_geometry
+
+        return getattr(contact_geometry, name)
+    raise AttributeError(f"module 'railwear.geometry' has no attribute {name!r}")
