@@ -238,10 +238,11 @@ class VehicleTrackModel:
             raise ScenarioError("contact: transient_transfer needs a TransientContact")
         return self._closed_form(angular_frequency, output, parts)
 
-    def _closed_form(self, angular_frequency, output="frictional_power", parts=False):
+    def _closed_form(self, angular_frequency, output="frictional_power", parts=False, load=None):
         """:meth:`transient_transfer`'s equations, under the steady contact every factor 1 and
         ``S = 1`` (its filter ``F_n²`` then stays with :meth:`Fourier.disk_wheel`), where only
-        ``creepage`` (``ξ̂_u + D_ξ``, the creepage the contact sees) is an output as well."""
+        ``creepage`` (``ξ̂_u + D_ξ``, the creepage the contact sees) is an output as well.
+        ``load``: ``N̂/ū`` in place of this wheel's own (several wheels: the output is affine in it)."""
         if output == "creepage" and self.filters_contact:
             raise ScenarioError("contact: the transient contact carries the frictional power and the normal force; "
                                 "a wear law driven by the sliding speed (archard) needs contact = 'steady'")
@@ -256,7 +257,7 @@ class VehicleTrackModel:
         else:
             f = dict.fromkeys(("force_uniform", "force_material", "wear_uniform", "wear_material"), 1.0)
             filt = 1.0
-        load = self._steady_transfer(omega, "normal_force")
+        load = self._steady_transfer(omega, "normal_force") if load is None else load
         a_p, b_p, d_xi = self.power_sensitivities()
         c_xi, a11 = c[xi, 1], A[1, 1]
         slope, per_n = c[fx, 1] / c_xi, c[fx, 2] / c[n, 2]
@@ -598,14 +599,18 @@ class WheelsOnRail:
         m = self.model
         if output not in m.LINEAR_OUTPUTS:
             raise ScenarioError(f"output: must be one of {m.LINEAR_OUTPUTS}, got {output!r}")
-        if m.filters_contact:
-            raise ScenarioError("contact: several wheels on one rail take the steady contact for now")
         row, normal = m.LINEAR_OUTPUTS.index(output), m.LINEAR_OUTPUTS.index("normal_force")
         gu, gr = m.wheel_terms(angular_frequency)
         A = self.rail_matrix(angular_frequency) if rail is None else rail
         eye = np.eye(self._x.size)
         A = A + m.wheel_mode_receptance(angular_frequency)[None, :, None, None] * eye
         N = np.linalg.solve(eye + gr[:, normal, None, None] * A, gu[:, normal, None, None] * eye)
+        if m.filters_contact or m.tangential:  # the closed form is affine in the load: Y = P I + Q N̄
+            omega = np.atleast_1d(np.asarray(angular_frequency, float))
+            own = m._steady_transfer(omega, "normal_force")  # a load of the right size: no cancellation in q
+            p = m._closed_form(omega, output, load=np.zeros(omega.shape))
+            q = (m._closed_form(omega, output, load=own) - p) / own
+            return p[:, None, None] * eye + q[:, None, None] * np.mean(N, axis=0)
         Y = gu[:, row, None, None] * eye - gr[:, row, None, None] * (A @ N)
         return np.mean(Y, axis=0)
 
@@ -627,7 +632,8 @@ class WheelsOnRail:
         omega = self.frequencies(n)
         A = self.rail_matrix(omega) if rail is None else rail
         H = sum(weight * self.transfer_matrix(omega, output, A) for output, weight in terms.items())
-        return -c * (contact_filter(n, m.patch_half_length / m.radius) ** 2)[:, None, None] * H
+        filt = np.ones_like(n) if m.filters_contact else contact_filter(n, m.patch_half_length / m.radius) ** 2
+        return -c * filt[:, None, None] * H
 
     def rail_modes(self, count=3) -> dict:
         """The rail's first ``count`` bending modes between the first two wheels [Hz]
@@ -782,19 +788,21 @@ class WheelsFourier(Harmonics):
         return ds
 
 
-def wheels_growth_map(case, positions, speeds, orders, law, bay_positions=8, phases="locked"):
+def wheels_growth_map(case, positions, speeds, orders, law, bay_positions=8, phases="locked", contact="steady",
+                      tangential=()):
     """The fastest combination's growth rate [1/km] of ``case``'s wheels at ``positions`` (m along
     the rail) over ``speeds`` (m/s) × ``orders``, as :func:`growth_map` gives the single wheel's,
     the rail matrix evaluated once for every speed's frequencies ``n Ω``; with drifting
-    ``phases`` (:class:`WheelsFourier`) the fastest wheel's own rate."""
+    ``phases`` (:class:`WheelsFourier`) the fastest wheel's own rate; ``contact`` and ``tangential``
+    as :meth:`VehicleCase.fourier` takes them."""
     if phases not in PHASES:
         raise ScenarioError(f"phases: one of {', '.join(PHASES)}, got {phases!r}")
     fastest = (lambda M: growing_combinations(M)[0][:, 0]) if phases == "locked" else (
         lambda M: np.max(own_rates(M).real, axis=1))
     speeds = np.atleast_1d(np.asarray(speeds, float))
     n = np.asarray(np.atleast_1d(orders), float)
-    wheels = [WheelsOnRail(VehicleTrackModel(case.wheel(v), case.track, bay_positions, case.wheel_modes), positions)
-              for v in speeds]
+    wheels = [WheelsOnRail(VehicleTrackModel(case.wheel(v), case.track, bay_positions, case.wheel_modes,
+                                             case._contact(contact), tangential), positions) for v in speeds]
     omegas = [w.frequencies(n) for w in wheels]
     A = wheels[0].rail_matrix(np.concatenate(omegas))
     rate = np.array([fastest(w.rate_matrix(n, law, case.band_width, a)).real / v * KM

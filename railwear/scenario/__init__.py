@@ -328,7 +328,8 @@ def to_toml(scenario: Scenario):
     return tomli_w.dumps(scenario.applicable())
 
 
-_ADDED_LATER = {"operation": ("daily_distance_km",), "body": ("wheel_positions_m", "wheel_phases")}
+_ADDED_LATER = {"operation": ("daily_distance_km",),
+                "body": ("wheel_positions_m", "wheel_phases", "rolling_contact", "tangential_compliance")}
 
 
 def scenario_hash(scenario: Scenario):

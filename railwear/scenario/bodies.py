@@ -127,6 +127,13 @@ class VehicleTrackSection(RollingWheel):
     # the wheels' polygons: "locked" at their relative angles (equal diameters), or "drifting" (the
     # diameters of different axles differ; each wheel grows on its own); None: locked
     wheel_phases: Literal["locked", "drifting"] | None = None
+    # the rolling contact of the linear strategies (docs/vehicle_track.md, Short-wavelength contact
+    # physics): Kalker's steady creep, or the non-steady contact (half-space or simplified theory);
+    # None: steady
+    rolling_contact: Literal["steady", "transient", "simplified"] | None = None
+    # longitudinal compliances in series with the contact: the rail head's, the wheel centre's
+    # (a free mass); None: both rigid
+    tangential_compliance: Annotated[list[Literal["rail", "wheel"]], Field(max_length=2)] | None = None
 
     sections: ClassVar[tuple] = ("track",)
     label: ClassVar[str] = "wheel on the discrete track"
@@ -163,7 +170,7 @@ class VehicleTrackSection(RollingWheel):
             n = int(np.max(ds.dominant_order.values))
             model = self.linear_model(scenario, kmh_to_m_s(float(np.mean(speeds))))[0]
             wave, patch = 2 * np.pi * scenario.wheel.radius_m / max(n, 1), 2 * model.patch_half_length
-            if n > 1 and wave < self.SHORTEST_WAVE * patch:
+            if n > 1 and wave < self.SHORTEST_WAVE * patch and self.contact_model == "steady":
                 notes.append(f"the dominant order {n} is {wave * 1e3:.0f} mm long, under {self.SHORTEST_WAVE:g} patch "
                              f"lengths ({patch * 1e3:.1f} mm): the steady creep law does not hold there")
         return notes
@@ -173,6 +180,9 @@ class VehicleTrackSection(RollingWheel):
         x = self.wheel_positions_m
         if x is not None and (x[0] != 0 or any(b <= a for a, b in zip(x, x[1:]))):
             raise refuse("wheel_positions_m", f"the wheels' distances from the first (m): 0, then increasing, got {x}")
+        if self.tangential_compliance is not None and len(set(self.tangential_compliance)) != len(
+                self.tangential_compliance):
+            raise refuse("tangential_compliance", f"each of rail, wheel once, got {self.tangential_compliance}")
         if self.wheel_phases is not None and not self.several_wheels:
             raise refuse("wheel_phases", "the relative phases of several wheels' polygons: give wheel_positions_m "
                                          "with two wheels or more")
@@ -215,6 +225,10 @@ class VehicleTrackSection(RollingWheel):
         if self.phases == "drifting":
             raise ScenarioError("body.wheel_phases: the time-domain track runs identical wheels, whose polygons keep "
                                 "their angles (locked); drifting phases run with the Fourier technique")
+        if self.contact_model != "steady" or self.tangential:
+            field = "rolling_contact" if self.contact_model != "steady" else "tangential_compliance"
+            raise ScenarioError(f"body.{field}: the time-domain body rolls with Kalker's steady creep on a rigid "
+                                "rail head; the non-steady contact and the compliances run with the Fourier technique")
         try:
             return VehicleTrackBody(case.wheel(service.mean if speed is None else speed), _build().wear_law(scenario),
                                     case.band_width, _build().life_distance(scenario), service, **self.settings(),
@@ -224,6 +238,16 @@ class VehicleTrackSection(RollingWheel):
                 raise ScenarioError(f"body.wheel_positions_m{str(e)[len('wheel_positions'):]} (or raise "
                                     "track.ring_sleepers)") from None
             raise
+
+    @property
+    def contact_model(self) -> str:
+        """``rolling_contact`` or ``"steady"``."""
+        return self.rolling_contact or "steady"
+
+    @property
+    def tangential(self) -> tuple:
+        """``tangential_compliance`` as a tuple (empty: rigid)."""
+        return tuple(self.tangential_compliance or ())
 
     @property
     def phases(self) -> str:
@@ -254,8 +278,8 @@ class VehicleTrackSection(RollingWheel):
         from railwear.longterm.vehicle_track import VehicleTrackModel
 
         case = self.case(scenario)
-        return VehicleTrackModel(case.wheel(speed), case.track, scenario.track.bay_positions,
-                                 case.wheel_modes), case.band_width
+        return VehicleTrackModel(case.wheel(speed), case.track, scenario.track.bay_positions, case.wheel_modes,
+                                 case._contact(self.contact_model), self.tangential), case.band_width
 
     def growth_map(self, scenario, speeds, orders):
         """The Fourier growth map with the rail receptance evaluated once per bay offset; with
@@ -264,8 +288,10 @@ class VehicleTrackSection(RollingWheel):
             from railwear.longterm.vehicle_track import wheels_growth_map
 
             return wheels_growth_map(self.case(scenario), self.wheel_positions_m, speeds, orders,
-                                     _build().wear_law(scenario), scenario.track.bay_positions, self.phases)
-        return self.case(scenario).growth_map(speeds, orders, _build().wear_law(scenario), scenario.track.bay_positions)
+                                     _build().wear_law(scenario), scenario.track.bay_positions, self.phases,
+                                     self.contact_model, self.tangential)
+        return self.case(scenario).growth_map(speeds, orders, _build().wear_law(scenario), scenario.track.bay_positions,
+                                              contact=self.contact_model, tangential=self.tangential)
 
 
 @body_section

@@ -114,3 +114,42 @@ def test_refusals():
         longitudinal_receptance(dataclasses.replace(rail("60E1"), name="custom"), 100.0)
     with pytest.raises(ScenarioError, match="^angular_frequency:"):
         longitudinal_receptance(rail("60E1"), 0.0)
+
+
+def test_the_scenario_fields_reach_the_model_and_one_wheel_models_refuse_them():
+    """``[body] rolling_contact`` and ``tangential_compliance`` give the Fourier run the model built
+    by hand (rates to 1e-12); the time-domain body refuses them by name; unset, the hash holds."""
+    from railwear import api
+    from railwear.longterm.fourier import Fourier
+    from railwear.scenario import build, load_scenario, scenario_hash
+
+    fields = {"body.rolling_contact": "transient", "body.tangential_compliance": ["rail", "wheel"]}
+    sc = load_scenario("metro", fields)
+    ds = api.run(sc)
+    model = _model(tangential=("rail", "wheel"), contact="transient")
+    expected = Fourier.disk_wheel(model, EnergyLaw(), METRO.band_width).rates(ds.order.values)
+    np.testing.assert_allclose(ds.harmonic_growth_rate.values, expected.real, rtol=1e-12)
+    for field, value in fields.items():
+        with pytest.raises(ScenarioError, match=f"^{field}: the time-domain body"):
+            build.strategy(load_scenario("metro", {field: value, "strategy.kind": "stepwise"}))
+    with pytest.raises(ScenarioError, match="body.tangential_compliance"):
+        load_scenario("metro", {"body.tangential_compliance": ["rail", "rail"]})
+    with pytest.raises(ScenarioError, match="body.rolling_contact"):
+        load_scenario("metro", {"body.rolling_contact": "fast"})
+    assert scenario_hash(load_scenario("metro")) == "81ff3b9629ebc6e8ba258436b5ba02648541e629e1dbd215ab8aa5accb3a451c"
+
+
+@pytest.mark.parametrize("contact, tangential", [("transient", ()), ("steady", ("rail", "wheel"))])
+def test_several_wheels_take_the_non_steady_contact_and_the_compliances(contact, tangential):
+    """The closed form is affine in the load, so over several wheels ``Y = P I + Q N̄``: one wheel
+    is the single-wheel model and two wheels 60 m apart two single wheels (to 1e-12)."""
+    from railwear.longterm.fourier import Fourier
+    from railwear.longterm.vehicle_track import WheelsOnRail
+
+    model = _model(-0.05, tangential, contact)
+    single = Fourier.disk_wheel(model, EnergyLaw(), METRO.band_width).rates(ORDERS)
+    one = WheelsOnRail(model, (0.0,)).rates(ORDERS, EnergyLaw(), METRO.band_width)[0][:, 0]
+    far = WheelsOnRail(model, (0.0, 60.0)).rates(ORDERS, EnergyLaw(), METRO.band_width)[0]
+    scale = np.max(np.abs(single))
+    assert np.max(np.abs(one - single)) < 1e-12 * scale
+    assert np.max(np.abs(far - single[:, None])) < 1e-12 * scale

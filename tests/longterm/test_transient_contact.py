@@ -133,8 +133,8 @@ def test_refusals():
     model = VehicleTrackModel(METRO.wheel(V), METRO.track, contact=contact)
     with pytest.raises(ScenarioError, match="contact"):
         model.transfer(100.0, "creepage")
-    with pytest.raises(ScenarioError, match="contact"):
-        WheelsOnRail(model, (0.0, 2.5)).transfer_matrix(np.array([100.0]))
+    with pytest.raises(ScenarioError, match="contact"):  # several wheels: the same outputs as one
+        WheelsOnRail(model, (0.0, 2.5)).transfer_matrix(np.array([100.0]), "creepage")
     with pytest.raises(ScenarioError, match="contact.theory"):
         TransientContact(theory="brush")
     with pytest.raises(ScenarioError, match="contact"):
