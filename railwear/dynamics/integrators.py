@@ -382,11 +382,13 @@ def _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, 
     return True
 
 
-# ---- the method's pieces, picked when the loop is typed ----------------------------------------
-# ``integrate`` takes the method as a compile-time constant, and the functions below choose the
-# method's code when a caller is typed, so a run compiles the one method it uses. (numba prunes no
-# branch on the value of a constant integer argument: with ``if method == ...`` in the loop, every
-# method was typed and compiled, the Rosenbrock step with its Jacobian and LU included.)
+# ---- the dense output of the method, picked when the loop is typed ------------------------------
+# ``integrate`` takes the method as a compile-time constant (as it does the model kind). numba
+# prunes no branch on the value of a constant integer argument, so every branch of the loop is
+# still typed; the dense output, which the loop calls for both explicit methods, is chosen here
+# when the loop is typed, so a DOPRI5 run does not compile DOP853's three extra stages. (Choosing
+# the Rosenbrock step the same way saved about 2 s of compile but made the Rosenbrock loop 20 %
+# slower, the step and Jacobian being the same compiled functions: left as it was.)
 
 
 def _by_method(method, impls):
@@ -395,71 +397,6 @@ def _by_method(method, impls):
     if not isinstance(method, types.IntegerLiteral):
         return None
     return impls[method.literal_value]
-
-
-def _trial_step(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp, f1, jac, dfdt,
-                w, piv, jac_fresh, stats):
-    """One trial step of ``method`` from ``(t, y)`` of size ``h``: the new state into ``ynew`` and
-    its RHS into ``fnew``, the error estimate into ``err`` (DOP853: the fifth-order one, the third-
-    order one into ``k1``), the RHS evaluations counted in ``stats``. Returns ``(ok, jac_fresh)``:
-    ``ok`` False when the step failed (a singular ``W``, a non-finite third-order estimate).
-    Compiled code only."""
-    raise TypeError("_trial_step is for compiled code")
-
-
-def _dopri5_trial(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp, f1, jac, dfdt,
-                  w, piv, jac_fresh, stats):
-    _explicit_step(kind, p, surf, t, y, f0, h, _A, _C, 7, ynew, fnew, k, tmp)
-    _combine(_E, k, h, err)
-    stats[STAT_NFEV] += 6
-    return True, jac_fresh
-
-
-def _dop853_trial(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp, f1, jac, dfdt,
-                  w, piv, jac_fresh, stats):
-    _explicit_step(kind, p, surf, t, y, f0, h, _D8_A, _D8_C, 13, ynew, fnew, k, tmp)
-    _combine(_D8_E5, k, h, err)
-    _combine(_D8_E3, k, h, k1)  # the third-order estimate
-    stats[STAT_NFEV] += 12
-    return _all_finite(k1), jac_fresh
-
-
-def _rosenbrock_trial(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp, f1, jac,
-                      dfdt, w, piv, jac_fresh, stats):
-    if not jac_fresh:
-        _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, f1)
-        stats[STAT_NFEV] += y.shape[0] + 1
-        stats[STAT_NJAC] += 1
-    ok = _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, w, piv, k1, k2, tmp, f1)
-    stats[STAT_NFEV] += 2
-    return ok, True
-
-
-@overload(_trial_step, prefer_literal=True)
-def _trial_step_of(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp, f1, jac, dfdt,
-                   w, piv, jac_fresh, stats):
-    return _by_method(method, {METHOD_DOPRI5: _dopri5_trial, METHOD_DOP853: _dop853_trial,
-                               METHOD_ROSENBROCK: _rosenbrock_trial})
-
-
-def _error_measure(method, err, e3, y, ynew, rtol, atol):
-    """The step's error in the weighted norm (DOP853: with its third-order estimate ``e3``);
-    compiled code only."""
-    raise TypeError("_error_measure is for compiled code")
-
-
-def _plain_error(method, err, e3, y, ynew, rtol, atol):
-    return _error_norm(err, y, ynew, rtol, atol)
-
-
-def _dop853_error(method, err, e3, y, ynew, rtol, atol):
-    return _dop853_error_norm(err, e3, y, ynew, rtol, atol)
-
-
-@overload(_error_measure, prefer_literal=True)
-def _error_measure_of(method, err, e3, y, ynew, rtol, atol):
-    return _by_method(method, {METHOD_DOPRI5: _plain_error, METHOD_ROSENBROCK: _plain_error,
-                               METHOD_DOP853: _dop853_error})
 
 
 def _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
@@ -482,7 +419,7 @@ def _rosenbrock_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
     return 0  # never called: the Rosenbrock step leaves its coefficients in ``q``
 
 
-@overload(_explicit_dense, prefer_literal=True)
+@overload(_explicit_dense, inline="always", prefer_literal=True)
 def _explicit_dense_of(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
     return _by_method(method, {METHOD_DOPRI5: _dopri5_dense, METHOD_DOP853: _dop853_dense_counted,
                                METHOD_ROSENBROCK: _rosenbrock_dense})
@@ -696,14 +633,35 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
         if h <= 1e-14 * max(abs(t), abs(span)) and not last:  # a short last step is harmless
             status = STATUS_STEP_TOO_SMALL
             break
-        ok, jac_fresh = _trial_step(method, kind, p, surf, t, y, f0, h, rtol, atol, ynew, fnew, err, q, k, k1, k2, tmp,
-                                    f1, jac, dfdt, w, piv, jac_fresh, stats)
+        ok = True
+        if method == METHOD_DOPRI5:
+            _explicit_step(kind, p, surf, t, y, f0, h, _A, _C, 7, ynew, fnew, k, tmp)
+            _combine(_E, k, h, err)
+            stats[STAT_NFEV] += 6
+        elif method == METHOD_DOP853:
+            _explicit_step(kind, p, surf, t, y, f0, h, _D8_A, _D8_C, 13, ynew, fnew, k, tmp)
+            _combine(_D8_E5, k, h, err)
+            _combine(_D8_E3, k, h, k1)  # the third-order estimate
+            stats[STAT_NFEV] += 12
+        else:
+            if not jac_fresh:
+                _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, f1)
+                stats[STAT_NFEV] += n + 1
+                stats[STAT_NJAC] += 1
+                jac_fresh = True
+            ok = _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, w, piv, k1, k2, tmp, f1)
+            stats[STAT_NFEV] += 2
+        if method == METHOD_DOP853 and not _all_finite(k1):  # k1 holds the third-order estimate
+            ok = False
         if not ok or not _all_finite(ynew) or not _all_finite(err):
             stats[STAT_NREJECT] += 1
             h *= 0.25
             fac_max = 1.0
             continue
-        en = _error_measure(method, err, k1, y, ynew, rtol, atol)
+        if method == METHOD_DOP853:
+            en = _dop853_error_norm(err, k1, y, ynew, rtol, atol)
+        else:
+            en = _error_norm(err, y, ynew, rtol, atol)
         if en > 1.0:
             stats[STAT_NREJECT] += 1
             if cut_at_switches and cuts < 2:
