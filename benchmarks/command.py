@@ -38,7 +38,8 @@ FIRST_LOAD = ("from numba.core.registry import cpu_target; "  # what numba does 
 
 FLOOR = [sys.executable, "-c", "import gc, sys; gc.set_threshold(*gc.get_threshold()[:2], 1 << 30); "  # as the command
          "sys.modules['dask'] = None; "  # does (railwear.cli._full_collections, _hide_dask)
-         "import numpy, xarray, typer, pydantic, numba, scipy.special, scipy.optimize, h5netcdf; " + FIRST_LOAD]
+         "import numpy, xarray, typer, pydantic, numba, scipy.special, scipy.optimize, h5netcdf; " + FIRST_LOAD
+         + "; import os; os._exit(0)"]  # no teardown, as the command (railwear.cli._exit)
 
 
 STEPS = r"""
