@@ -53,7 +53,9 @@ def step(name, then=[time.perf_counter(), time.process_time()]):
 import railwear.cli
 step("import railwear.cli (typer)")
 from railwear import api, report, results
-step("import railwear's API (scenario, geometry, contact, numba, xarray)")
+step("import railwear's API (scenario, pydantic, xarray)")
+import numba
+step("import numba")
 <FIRST_LOAD>
 step("numba's first load from its cache: its registries (scipy.linalg for its BLAS check)")
 import scipy.special, scipy.optimize
