@@ -216,15 +216,41 @@ def _row_status(row, blowup):
     return BLOWUP if large else OK
 
 
+@njit(cache=True, fastmath=True)  # a bound: the sum may be taken in any order
+def _change_bound(v, v_new, b, n):
+    """An upper bound of ``max |irfft(v_new[b]) - irfft(v[b])|`` over the grid (m):
+    ``(|dv_0| + 2 sum |dv_k| + |dv_(n/2)|) / n`` with ``|z| <= |Re z| + |Im z|``."""
+    nk = v.shape[1]
+    total = 0.0
+    for i in range(nk):
+        d = v_new[b, i] - v[b, i]
+        total += abs(d.real) + abs(d.imag)
+    total = 2.0 * total
+    d0 = v_new[b, 0] - v[b, 0]
+    total -= abs(d0.real) + abs(d0.imag)
+    if n % 2 == 0:
+        d1 = v_new[b, nk - 1] - v[b, nk - 1]
+        total -= abs(d1.real) + abs(d1.imag)
+    return total / n
+
+
+# A depth bound below this fraction of the limit skips the exact depth: the rounding of the
+# exact depth (an inverse FFT of m-sized values) is many orders below the margin.
+_DEPTH_MARGIN = 1.0 - 1e-6
+
+
 @njit(cache=True)
-def _accept(v, v_new, n, active, stop_time, t_step, dt, u_ref, depth_limit, blowup):
+def _accept(v, v_new, n, active, stop_time, t_step, dt, u_ref, depth_limit, blowup, depth_bound):
     # ``t_step`` and ``dt`` hold the time at the start of the step and the step of each row.
     """Copy ``v_new`` into the active rows of ``v``; returns ``(status, all_rows_stopped)``.
 
     A non-finite value or an amplitude above ``blowup`` leaves ``v`` untouched. With
     ``depth_limit > 0`` a row whose removed depth ``max(u_ref - u)`` reaches the limit is
     interpolated linearly to the crossing within the step, frozen, and its time written to
-    ``stop_time``.
+    ``stop_time``. ``depth_bound`` holds per row an upper bound of the depth of ``v`` (``inf``
+    where none is known) and is updated: the exact depth (an inverse FFT) is taken only for rows
+    whose bound plus :func:`_change_bound` could reach the limit, so the rows that stop, and
+    where, are those of the exact depth at every step.
     """
     nb = v.shape[0]
     for b in range(nb):
@@ -232,13 +258,20 @@ def _accept(v, v_new, n, active, stop_time, t_step, dt, u_ref, depth_limit, blow
             status = _row_status(v_new[b], blowup)
             if status != OK:
                 return status, False
-    # The grid values of every row at once: one batched transform instead of one per row.
-    u_new = np.fft.irfft(v_new, n, axis=-1) if depth_limit > 0.0 else np.empty((0, n))
+    exact = np.zeros(nb, dtype=np.bool_)
+    if depth_limit > 0.0:
+        for b in range(nb):
+            if active[b]:
+                depth_bound[b] += _change_bound(v, v_new, b, n)
+                exact[b] = not depth_bound[b] < _DEPTH_MARGIN * depth_limit
+    # The grid values of the rows that need them at once: one batched transform.
+    u_new = np.fft.irfft(v_new, n, axis=-1) if np.any(exact) else np.empty((0, n))
     for b in range(nb):
         if not active[b]:
             continue
-        if depth_limit > 0.0:
+        if exact[b]:
             d_new = _row_depth(u_ref, u_new[b], b)
+            depth_bound[b] = d_new / _DEPTH_MARGIN if d_new > 0.0 else d_new * _DEPTH_MARGIN
             if d_new >= depth_limit:
                 d_old = _max_depth(u_ref, v, n, b)
                 theta = (depth_limit - d_old) / (d_new - d_old) if d_new > d_old else 1.0
@@ -279,16 +312,32 @@ def _stage_c(E2, a, Q, R, m_out, Nv, m_in):
 
 
 @njit(cache=True)
-def _combine(v, E, f1, f2, f3, Nv, Na, Nb, Rc, m_out):
-    """The ETDRK4 update ``E v + f1 Nv + 2 f2 (Na + Nb) + f3 Nc`` with ``Nc = Rc m_out``, in one pass."""
-    out = np.empty_like(v)
+def _combine(v, E, f1, f2, f3, Nv, Na, Nb, Rc, m_out, out):
+    """The ETDRK4 update ``E v + f1 Nv + 2 f2 (Na + Nb) + f3 Nc`` with ``Nc = Rc m_out`` into
+    ``out``, in one pass."""
     nb, nk = v.shape
     for b in range(nb):
         for i in range(nk):
             Nc = Rc[b, i] * m_out[b, i]
             out[b, i] = (E[b, i] * v[b, i] + Nv[b, i] * f1[b, i]
                          + 2 * (Na[b, i] + Nb[b, i]) * f2[b, i] + Nc * f3[b, i])
-    return out
+
+
+@njit(cache=True)
+def _step(v, E, E2, Q, f1, f2, f3, m_in, m_out, n, poly, tab_lo, tab_ds, tab_val, tab_der, pieces, out):
+    """One ETDRK4 step of the rows ``v`` into ``out``. Each stage's pass also forms its ``N``
+    (the transform times ``m_out``) and the next input (times ``m_in``), so the transforms are
+    the only other passes over the rows."""
+    terms = (n, poly, tab_lo, tab_ds, tab_val, tab_der, pieces)
+    Nv, a, a_in = _stage(E2, v, Q, _transform(_times(v, m_in), *terms), m_out, m_in)
+    Na, b, b_in = _stage(E2, v, Q, _transform(a_in, *terms), m_out, m_in)
+    Nb, c, c_in = _stage_c(E2, a, Q, _transform(b_in, *terms), m_out, Nv, m_in)
+    _combine(v, E, f1, f2, f3, Nv, Na, Nb, _transform(c_in, *terms), m_out, out)
+
+
+# Rows stepped together: the step's arrays of a block and its h tables' cubics stay in the
+# core's cache through the four stages, where those of a whole batch of 64 do not.
+_BLOCK_ROWS = 8
 
 
 @njit(cache=True)
@@ -328,18 +377,17 @@ def advance_compiled(
             cval, cder, cref = _rows(tab_val, idx), _rows(tab_der, idx), _rows(u_ref, idx)
             cpieces = hermite_pieces(cds, cval, cder)
             cdt = _rows(dt, idx)
+            bound = np.full(idx.size, np.inf)
         cv = _rows(v, idx) if idx.size != nb else v
-        terms = (n, cpoly, clo, cds, cval, cder, cpieces)
-        # Each stage's pass also forms its N (the transform times m_out) and the next input
-        # (times m_in), so the transforms are the only other passes over the batch.
-        Nv, a, a_in = _stage(cE2, cv, cQ, _transform(_times(cv, cin), *terms), cout, cin)
-        Na, b, b_in = _stage(cE2, cv, cQ, _transform(a_in, *terms), cout, cin)
-        Nb, c, c_in = _stage_c(cE2, a, cQ, _transform(b_in, *terms), cout, Nv, cin)
-        v_new = _combine(cv, cE, cf1, cf2, cf3, Nv, Na, Nb, _transform(c_in, *terms), cout)
+        v_new = np.empty_like(cv)
+        for r0 in range(0, idx.size, _BLOCK_ROWS):
+            r = slice(r0, min(r0 + _BLOCK_ROWS, idx.size))
+            _step(cv[r], cE[r], cE2[r], cQ[r], cf1[r], cf2[r], cf3[r], cin[r], cout[r], n, cpoly[r],
+                  clo[r], cds[r], cval[r], cder[r], cpieces[r], v_new[r])
         cactive = np.ones(idx.size, dtype=np.bool_)
         cstop = _rows(stop_time, idx)
         status, _ = _accept(cv, v_new, n, cactive, cstop, t0 + step * cdt, cdt, cref,
-                            depth_limit, blowup)
+                            depth_limit, blowup, bound)
         if status != OK:
             return status, step
         for i in range(idx.size):
@@ -360,6 +408,7 @@ def advance_python(v, co, nonlinear, n_steps, t0, active, stop_time, u_ref, dept
     nonlinear term as a function argument, so the two loops cannot share one source.
     """
     n = u_ref.shape[-1]
+    bound = np.full(v.shape[0], np.inf)
     for step in range(n_steps):
         Nv = nonlinear(v)
         a = co.E2 * v + co.Q * Nv
@@ -370,7 +419,7 @@ def advance_python(v, co, nonlinear, n_steps, t0, active, stop_time, u_ref, dept
         Nc = nonlinear(c)
         v_new = co.E * v + Nv * co.f1 + 2 * (Na + Nb) * co.f2 + Nc * co.f3
         status, done = _accept(v, v_new, n, active, stop_time, t0 + step * co.dt, co.dt,
-                               u_ref, depth_limit, blowup)
+                               u_ref, depth_limit, blowup, bound)
         if status != OK:
             return status, step
         if done:
