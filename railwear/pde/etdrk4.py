@@ -81,23 +81,23 @@ def etdrk4_coefficients(L, dt, n_contour=32):
 def hermite_pieces(tab_ds, tab_val, tab_der):
     """The cubic of each table interval in the local coordinate ``p`` in [0, 1), per batch row.
 
-    Row ``b`` holds ``(y0, d0, c2, c3)`` of interval ``j`` at ``4 j .. 4 j + 3``, so that the
+    Row ``b`` holds ``(y0, d0, c2, c3)`` of interval ``j`` at ``[b, j]``, so that the
     table is ``y0 + p (d0 + p (c2 + p c3))`` there, with ``d = ds g'`` and ``c2 = 3 (y1 - y0) -
     2 d0 - d1``, ``c3 = 2 (y0 - y1) + d0 + d1`` (the cubic Hermite basis in Horner form). The
     sums are those :func:`pointwise` formed per point before, so the values are the same to the
     bit. A table of one point gets one zero piece (never used).
     """
     nb, ntab = tab_val.shape
-    out = np.zeros((nb, 4 * max(ntab - 1, 1)))
+    out = np.zeros((nb, max(ntab - 1, 1), 4))
     for b in range(nb):
         ds = tab_ds[b]
         for j in range(ntab - 1):
             y0, y1 = tab_val[b, j], tab_val[b, j + 1]
             d0, d1 = ds * tab_der[b, j], ds * tab_der[b, j + 1]
-            out[b, 4 * j] = y0
-            out[b, 4 * j + 1] = d0
-            out[b, 4 * j + 2] = 3.0 * (y1 - y0) - 2.0 * d0 - d1
-            out[b, 4 * j + 3] = 2.0 * (y0 - y1) + d0 + d1
+            out[b, j, 0] = y0
+            out[b, j, 1] = d0
+            out[b, j, 2] = 3.0 * (y1 - y0) - 2.0 * d0 - d1
+            out[b, j, 3] = 2.0 * (y0 - y1) + d0 + d1
     return out
 
 
@@ -127,7 +127,7 @@ def pointwise_pieces(w, poly, tab_lo, tab_ds, tab_val, tab_der, pieces):
     ntab = tab_val.shape[1]
     top = ntab - 1
     last = float(max(top - 1, 0))  # the last interval's index
-    at = np.empty(n, np.int64)
+    at = np.empty(n, np.uint64)  # unsigned: indexing without the check for a negative index
     cubic = np.empty(n)
     for b in range(nb):
         row, res = w[b], out[b]
@@ -146,11 +146,11 @@ def pointwise_pieces(w, poly, tab_lo, tab_ds, tab_val, tab_der, pieces):
             t = (row[i] - lo) * inv_ds
             tc = t if t > 0.0 else 0.0  # clamped to a valid interval (a NaN to the first)
             j0 = int(tc if tc < last else last)
-            at[i] = 4 * j0
+            at[i] = j0
             cubic[i] = t - j0  # p, used only inside the table
         for i in range(n):
             k, p = at[i], cubic[i]
-            cubic[i] = piece[k] + p * (piece[k + 1] + p * (piece[k + 2] + p * piece[k + 3]))
+            cubic[i] = piece[k, 0] + p * (piece[k, 1] + p * (piece[k, 2] + p * piece[k, 3]))
         y_lo, g_lo = tab_val[b, 0], tab_der[b, 0]
         y_hi, g_hi = tab_val[b, top], tab_der[b, top]
         x_hi = lo + top * ds
@@ -203,15 +203,28 @@ def _row_status(row, blowup):
     modulus of its non-constant modes exceeds ``blowup``, else ``OK``. (The mean, mode 0, moves
     with the uniform wear and is no sign of instability.)
 
-    The modulus (a ``hypot``) is computed only where ``max(|re|, |im|)`` could exceed ``blowup``.
+    A first pass reads the parts' bits (an exponent of all ones is an infinity or a NaN; for
+    non-negative numbers the bits order as the values), which the compiler vectorises; the
+    modulus (a ``hypot``) is computed only if a part could exceed ``blowup``.
     """
     near = blowup / math.sqrt(2.0)
+    bits = row.view(np.uint64)  # real and imaginary parts in turn
+    magnitude = np.uint64(0x7FFFFFFFFFFFFFFF)
+    infinite = np.uint64(0x7FF0000000000000)
+    near_bits = np.array([abs(near)]).view(np.uint64)[0]
+    nonfinite, candidate = False, False
+    for i in range(bits.size):
+        m = bits[i] & magnitude
+        nonfinite |= m >= infinite
+        candidate |= (m > near_bits) & (i >= 2)
+    if nonfinite:
+        return NONFINITE
+    if not candidate:
+        return OK
     large = False
-    for i in range(row.size):
+    for i in range(1, row.size):
         re, im = row[i].real, row[i].imag
-        if not (np.isfinite(re) and np.isfinite(im)):
-            return NONFINITE
-        if i > 0 and max(abs(re), abs(im)) > near and math.hypot(re, im) > blowup:
+        if max(abs(re), abs(im)) > near and math.hypot(re, im) > blowup:
             large = True
     return BLOWUP if large else OK
 

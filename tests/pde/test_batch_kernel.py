@@ -12,7 +12,7 @@ import pytest
 
 from railwear.geometry import roundness
 from railwear.pde import DiskContact, solve_evolution
-from railwear.pde.etdrk4 import _BLOCK_ROWS, _change_bound, pointwise
+from railwear.pde.etdrk4 import BLOWUP, NONFINITE, OK, _BLOCK_ROWS, _change_bound, _row_status, pointwise
 
 SPEEDS = np.linspace(150.0, 280.0, 12) / 3.6  # m/s: more rows than a block, the last one partial
 
@@ -94,6 +94,36 @@ def test_change_bound_bounds_the_change_on_the_grid(n):
     mean = v.copy()
     mean[1, 0] += 0.25
     assert _change_bound(v, mean, 1, n) == pytest.approx(0.25 / n, rel=1e-15)
+
+
+def test_guard_reads_the_bits_as_the_values():
+    """The guard's status, from the parts' bits first, is that of its definition (any part not
+    finite: NONFINITE; else a mode other than the mean with modulus above the limit: BLOWUP) on
+    3000 random rows with NaNs, infinities, a large mean and moduli near the limit."""
+    rng = np.random.default_rng(0)
+
+    def status(row, blowup):
+        if not np.all(np.isfinite(row.real) & np.isfinite(row.imag)):
+            return NONFINITE
+        return BLOWUP if np.any(np.abs(row[1:]) > blowup) else OK
+
+    seen = set()
+    for _ in range(3000):
+        row = (rng.standard_normal(33) + 1j * rng.standard_normal(33)) * rng.choice([1e-3, 1.0, 1e3])
+        kind = rng.integers(0, 6)
+        if kind == 1:
+            row[rng.integers(33)] = complex(np.nan, 0.0)
+        elif kind == 2:
+            row[rng.integers(33)] = complex(0.0, -np.inf)
+        elif kind == 3:
+            row[0] = 1e9
+        elif kind == 4:
+            row[rng.integers(1, 33)] = complex(-2.9, 2.9)  # modulus 4.1: near a limit of 4
+        blowup = rng.choice([1.0, 4.0, 1e-6, 1e6])
+        expected = status(row, blowup)
+        seen.add(expected)
+        assert _row_status(row, blowup) == expected
+    assert seen == {OK, NONFINITE, BLOWUP}
 
 
 @pytest.mark.filterwarnings("ignore::railwear.errors.ResolutionWarning")
