@@ -24,6 +24,7 @@ again = integ.integrate(k.KIND_LINEAR, p, np.zeros(0), np.array([1.0, 0.0]), 0.0
 print(json.dumps({"y": list(out[1][0]), "again": list(again[1][0]),
                   "typed": {name: len(getattr(k, name).signatures) for name in
                             ("bogie_rhs", "table_wheelset_rhs", "cooperrider_rhs", "_table_forces", "_fastsim_factor")},
+                  "dop853": len(integ._dop853_dense.signatures),
                   "entries": len(integ.integrate._entries)}))
 """
 
@@ -35,6 +36,7 @@ def test_a_cold_run_compiles_only_its_model(tmp_path):
     np.testing.assert_allclose(result["y"], [np.cos(1.0), -np.sin(1.0)], atol=1e-8)
     assert result["again"] == result["y"]
     assert result["typed"] == dict.fromkeys(result["typed"], 0)  # main compiled all of them for any model
+    assert result["dop853"] == 0  # a DOPRI5 run compiled DOP853's dense output too (before issue 23)
     assert result["entries"] == 1  # the second call went straight to the compiled code
 
 
