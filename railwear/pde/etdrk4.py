@@ -203,20 +203,15 @@ def _row_status(row, blowup):
     modulus of its non-constant modes exceeds ``blowup``, else ``OK``. (The mean, mode 0, moves
     with the uniform wear and is no sign of instability.)
 
-    A first pass reads the parts' bits (an exponent of all ones is an infinity or a NaN; for
-    non-negative numbers the bits order as the values), which the compiler vectorises; the
-    modulus (a ``hypot``) is computed only if a part could exceed ``blowup``.
+    A first pass, which the compiler vectorises, finds a part that is not finite (``x - x`` is
+    not 0) or could exceed ``blowup``; the modulus (a ``hypot``) is computed only for the latter.
     """
     near = blowup / math.sqrt(2.0)
-    bits = row.view(np.uint64)  # real and imaginary parts in turn
-    magnitude = np.uint64(0x7FFFFFFFFFFFFFFF)
-    infinite = np.uint64(0x7FF0000000000000)
-    near_bits = np.array([abs(near)]).view(np.uint64)[0]
     nonfinite, candidate = False, False
-    for i in range(bits.size):
-        m = bits[i] & magnitude
-        nonfinite |= m >= infinite
-        candidate |= (m > near_bits) & (i >= 2)
+    for i in range(row.size):
+        re, im = row[i].real, row[i].imag
+        nonfinite |= (re - re != 0.0) | (im - im != 0.0)
+        candidate |= (i > 0) & ((abs(re) > near) | (abs(im) > near))
     if nonfinite:
         return NONFINITE
     if not candidate:
