@@ -548,7 +548,10 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
     ev_t = np.empty(ev_cap)
     ev_y = np.empty((ev_cap, n))
     ev_dir = np.empty(ev_cap, dtype=np.int64)
-    n_ev = 0
+    # counters and flags passed to compiled calls as numpy scalars, not constants: numba types a
+    # callee once per constant value (``_grow`` for 0 and again for int64, ``_locate_event`` for
+    # True and for False), which a cold start paid twice
+    n_ev = np.int64(0)
 
     y = y0.copy()
     t = t0
@@ -570,7 +573,7 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
 
     rhs_call(kind, t, y, p, surf, f0)
     stats[STAT_NFEV] += 1
-    n_out = 0
+    n_out = np.int64(0)
     i_eval = 0
     if dense_mode:
         while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t0:
@@ -670,7 +673,7 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
                 if (g_a > 0.0) != (g_b > 0.0) and g_a != 0.0 and g_b != 0.0:
                     # a kink inside: retry up to just past it, then go on with this step size
                     _hermite(y, ynew, f0, fnew, h, q)
-                    s_cut = _locate_event(kind, p, surf, t, y, h, q, g_a, g_b, tmp, True)
+                    s_cut = _locate_event(kind, p, surf, t, y, h, q, g_a, g_b, tmp, np.bool_(True))
                     if s_cut > 1e-3:
                         if cuts == 0:
                             h_resume = h
@@ -693,7 +696,7 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
                 if not q_ready:
                     stats[STAT_NFEV] += _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r)
                     q_ready = True
-                s_end = _locate_event(kind, p, surf, t, y, h, q, g_old, g_new, tmp, False)
+                s_end = _locate_event(kind, p, surf, t, y, h, q, g_old, g_new, tmp, np.bool_(False))
                 hit = 1 if g_new > 0.0 else -1
                 if s_end < 1.0:
                     t_new = t + s_end * h
