@@ -226,4 +226,5 @@ class Multiplier(Strategy, name="multiplier"):
         if limit is not None:
             ds["peak_to_peak_limit"] = ((), limit, {"units": "m", "long_name": "out-of-roundness limit, peak to peak"})
         ds.attrs["body"] = self.body
-        return ds
+        describe = getattr(self.fourier, "describe", None)  # several wheels: their combinations
+        return ds if describe is None else describe(ds)

@@ -754,7 +754,12 @@ class WheelsFourier(Harmonics):
         """:meth:`Harmonics.run`, with each order's growing combination over the wheels:
         ``combination_amplitude`` (relative to the largest) and ``combination_phase`` (rad,
         against the first wheel) on ``(order, wheel)``."""
-        ds = super().run(u0, duration, n_save, depth_limit, peak_to_peak_limit)
+        return self.describe(super().run(u0, duration, n_save, depth_limit, peak_to_peak_limit))
+
+    def describe(self, ds):
+        """``ds`` (a result over ``order``) with the wheels: their positions, the phases, each
+        order's growing combination (locked) or each wheel's own growth per km (drifting), and the
+        rail's modes between the first two (the multiplier's result takes them too)."""
         ds = ds.assign_coords(wheel_position=("wheel", np.asarray(self.positions),
                                               {"units": "m", "long_name": "wheel's distance along the rail from the first"}))
         ds.attrs["wheel_phases"] = self.phases

@@ -240,3 +240,15 @@ def test_a_bogie_with_drifting_phases_grows_each_wheel_at_its_own_rate(metro):
     with pytest.raises(ScenarioError, match="^body.wheel_phases: the time-domain"):
         build.strategy(load_scenario("metro", {**BOGIE, "body.wheel_phases": "drifting", "strategy.kind": "stepwise"}))
     assert scenario_hash(load_scenario("metro")) == scenario_hash(load_scenario("metro", {"body.wheel_phases": None}))
+
+
+def test_the_multiplier_over_several_wheels_names_their_combination_too():
+    from railwear import api, results
+
+    over = {**BOGIE, "strategy.kind": "multiplier", "strategy.local": "none"}
+    ds, fourier = api.run(load_scenario("metro", over)), api.run(load_scenario("metro", BOGIE))
+    np.testing.assert_array_equal(ds.combination_phase.values, fourier.combination_phase.values)
+    text = results.summary_text(results.summary(ds))
+    assert "wheels at 0, 2.5 m on one rail: order 8 grows with their polygons at phases 0, -180 deg" in text
+    drifting = api.run(load_scenario("metro", {**over, "body.wheel_phases": "drifting"}))
+    assert "phases drifting: each grows on its own, order 8 at" in results.summary_text(results.summary(drifting))
