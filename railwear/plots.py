@@ -1,6 +1,7 @@
 """Figures of a result: the paper's Figs 9-11, the polygon spectrum and the stability map, the
 wheelset's worn lateral profile and angular pattern (layer 4)."""
 
+import contextlib
 import os
 from pathlib import Path
 
@@ -637,10 +638,8 @@ class Drawers:
     def close(self):
         """Close the pipes: drawers still waiting exit without drawing."""
         for write in self.pipes:
-            try:
+            with contextlib.suppress(OSError):  # already closed by a failed send
                 os.close(write)
-            except OSError:
-                pass
         self.pipes = []
 
     def wait(self):

@@ -341,11 +341,17 @@ def ring_rhs(y, phi, force, near, weight, imass, stiff, damp, group, sign, norm,
         out[i] = y[nm + i]
         out[nm + i] = (gen - damp[i] * y[nm + i] - stiff[i] * y[i]) * imass[i]
     if not rigid:
-        for g in range(ns):
-            z = y[2 * nm + g]
-            zd = y[2 * nm + ns + g]
-            out[2 * nm + g] = zd
-            out[2 * nm + ns + g] = -(pads[g] + kb * z + cb * zd) * ims
+        _seat_rates(y, pads, nm, ns, kb, cb, ims, out)
+
+
+@njit(cache=True, inline="always")
+def _seat_rates(y, pads, nm, ns, kb, cb, ims, out):
+    """The sleepers' rows of ``dy/dt``: each seat's mass on the ballast under its pad force."""
+    for g in range(ns):
+        z = y[2 * nm + g]
+        zd = y[2 * nm + ns + g]
+        out[2 * nm + g] = zd
+        out[2 * nm + ns + g] = -(pads[g] + kb * z + cb * zd) * ims
 
 
 @njit(cache=True)
@@ -379,11 +385,7 @@ def ring_rhs_loads(y, phis, forces, nears, weights, imass, stiff, damp, group, s
         out[i] = y[nm + i]
         out[nm + i] = (gen - damp[i] * y[nm + i] - stiff[i] * y[i]) * imass[i]
     if not rigid:
-        for g in range(ns):
-            z = y[2 * nm + g]
-            zd = y[2 * nm + ns + g]
-            out[2 * nm + g] = zd
-            out[2 * nm + ns + g] = -(pads[g] + kb * z + cb * zd) * ims
+        _seat_rates(y, pads, nm, ns, kb, cb, ims, out)
 
 
 @njit(cache=True)
