@@ -607,10 +607,11 @@ class WheelsOnRail:
         N = np.linalg.solve(eye + gr[:, normal, None, None] * A, gu[:, normal, None, None] * eye)
         if m.filters_contact or m.tangential:  # the closed form is affine in the load: Y = P I + Q N̄
             omega = np.atleast_1d(np.asarray(angular_frequency, float))
-            own = m._steady_transfer(omega, "normal_force")  # a load of the right size: no cancellation in q
+            mean = np.mean(N, axis=0)
+            own = mean[:, 0, 0]  # a load of the right size: no cancellation in q
             p = m._closed_form(omega, output, load=np.zeros(omega.shape))
             q = (m._closed_form(omega, output, load=own) - p) / own
-            return p[:, None, None] * eye + q[:, None, None] * np.mean(N, axis=0)
+            return p[:, None, None] * eye + q[:, None, None] * mean
         Y = gu[:, row, None, None] * eye - gr[:, row, None, None] * (A @ N)
         return np.mean(Y, axis=0)
 
