@@ -330,15 +330,35 @@ def _linear_runs(samples, u0, t_end, progress=None):
     for k, sample in enumerate(samples):
         key = (sample.operation.speed_kmh, sample.wheel.static_load_kN, sample.contact.friction_coefficient)
         if key not in done:  # samples without scatter share one run
-            done[key] = build.strategy(sample).run(u0, until=t_end).u
+            done[key] = _states(build.strategy(sample), u0, t_end)
         runs.append(done[key])
         if progress is not None:
             progress((k + 1) / len(samples))
     speeds = [float(sample.operation.speeds) for sample in samples]
-    first = runs[0]  # every run saves the same normed times; their float values differ in the last bit
-    u = np.stack([r.transpose("time", "angle").values for r in runs])
+    time = runs[0][0]  # every run saves the same normed times; their float values differ in the last bit
+    u = np.stack([r[1] for r in runs])
     return xr.Dataset({"u": (("speed", "time", "angle"), u)},
-                      coords={"speed": speeds, "time": first.time.values, "angle": first.angle.values})
+                      coords={"speed": speeds, "time": time, "angle": 2 * np.pi * np.arange(u0.size) / u0.size})
+
+
+def _states(strategy, u0, until):
+    """``(time, u)``: the normed times and ``u`` (m, over time and angle) of ``strategy.run(u0,
+    until)``, the states alone. The Fourier technique without a limit (a forecast's samples) is
+    its exact solution at the run's saved times, ``n_save`` seconds from 0 to ``until`` lives at
+    its speed, without the result's Dataset and spectra (:func:`railwear.longterm.spectra.describe`,
+    most of a sample's cost); a state that is not finite is left to ``run`` to report."""
+    from railwear.longterm.base import checked_start
+    from railwear.longterm.fourier import Fourier, FourierCycle, FourierStrategy
+
+    if (isinstance(strategy, FourierStrategy) and type(strategy.fourier) in (Fourier, FourierCycle)
+            and strategy.peak_to_peak_limit is None):
+        speed, life = strategy.fourier.speed, strategy.life_distance
+        seconds = np.linspace(0.0, until * life / speed, strategy.n_save)
+        u = strategy.fourier.evolve(checked_start(u0, until, None), seconds)
+        if np.all(np.isfinite(u)):
+            return seconds * speed / life, u
+    u = strategy.run(u0, until=until).u
+    return u.time.values, u.transpose("time", "angle").values
 
 
 def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=201, progress=None,
