@@ -43,24 +43,46 @@ _GOLDEN = 0.5 * (np.sqrt(5.0) - 1.0)
 _COARSE_STEP = 0.25e-3  # sampling of the wheel profile before refinement [m]
 _MAX_MINIMA = 6
 
+# The kernels below are compiled on a command's first run. numba compiles a callee once per value
+# of a constant integer or boolean argument, and each caller's machine code again includes all of
+# its callees: so the wheel side is a float (+1.0 right, -1.0 left), the roll iteration's lowest
+# gap and the table's local minima are two functions instead of one with a flag, and the gap is
+# inlined once into the grid sampling and called from the golden section.
+
 
 @njit(cache=True)
-def _spline(xb, c, x, nu):
-    """Piecewise cubic (scipy CubicSpline layout) or its derivative ``nu``; NaN outside."""
+def _segment(xb, x):
+    """Piece ``i`` of the breakpoints ``xb`` holding ``x`` and ``t = x - xb[i]``; ``i = -1`` outside."""
     n = xb.shape[0] - 1
     if x < xb[0] or x > xb[n]:
-        return np.nan
-    i = np.searchsorted(xb, x, side="right") - 1
-    if i >= n:
-        i = n - 1
+        return -1, 0.0
+    lo, hi = 0, n + 1  # bisection: the number of breakpoints <= x (numpy's searchsorted "right")
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if xb[mid] <= x:
+            lo = mid + 1
+        else:
+            hi = mid
+    i = min(max(lo - 1, 0), n - 1)
+    return i, x - xb[i]
+
+
+@njit(cache=True)
+def _spline(xb, c, x):
+    """Piecewise cubic (scipy CubicSpline layout) at ``x``; NaN outside."""
+    i, t = _segment(xb, x)
     if i < 0:
-        i = 0
-    t = x - xb[i]
-    if nu == 0:
-        return ((c[0, i] * t + c[1, i]) * t + c[2, i]) * t + c[3, i]
-    if nu == 1:
-        return (3.0 * c[0, i] * t + 2.0 * c[1, i]) * t + c[2, i]
-    return 6.0 * c[0, i] * t + 2.0 * c[1, i]
+        return np.nan
+    return ((c[0, i] * t + c[1, i]) * t + c[2, i]) * t + c[3, i]
+
+
+@njit(cache=True)
+def _spline_slopes(xb, c, x):
+    """First and second derivative of the piecewise cubic at ``x``; NaN outside."""
+    i, t = _segment(xb, x)
+    if i < 0:
+        return np.nan, np.nan
+    return (3.0 * c[0, i] * t + 2.0 * c[1, i]) * t + c[2, i], 6.0 * c[0, i] * t + 2.0 * c[1, i]
 
 
 @njit(cache=True)
@@ -73,7 +95,7 @@ def _contact_point(yp, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0,
     the angle round the wheel is found by Newton's method on the gap (three steps suffice, the
     angle being of the order of yaw times the rail slope).
     """
-    zw = _spline(wx, wc, yp, 0)
+    zw = _spline(wx, wc, yp)
     rho = r0 + zw
     Yp = side * (yw0 + yp)
     alpha = 0.0
@@ -84,10 +106,9 @@ def _contact_point(yp, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0,
         Y1 = Yp * cth - rho * ca * sth
         Y = y_ws + rho * sa * sps + Y1 * cps
         yr = side * Y - yr0
-        z1 = _spline(rx, rc, yr, 1)
+        z1, z2 = _spline_slopes(rx, rc, yr)
         if np.isnan(z1):
             return np.inf, np.nan, np.nan
-        z2 = _spline(rx, rc, yr, 2)
         dY = rho * ca * sps + rho * sa * sth * cps
         d2Y = -rho * sa * sps + rho * ca * sth * cps
         dZ = -rho * sa * cth
@@ -102,7 +123,7 @@ def _contact_point(yp, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0,
     Zw = Yp * sth + rho * ca * cth
     Y = y_ws + X1 * sps + Y1 * cps
     yr = side * Y - yr0
-    zr = _spline(rx, rc, yr, 0)
+    zr = _spline(rx, rc, yr)
     if np.isnan(zr):
         return np.inf, np.nan, np.nan
     # longitudinal position relative to the wheel centre (X1 = 0, Y1 = Yp cos(theta))
@@ -114,12 +135,18 @@ def _gap(yp, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0):
     """Vertical gap rail - wheel (Z0 = 0) under wheel profile point yp; +inf off the rail."""
     if sps != 0.0:
         return _contact_point(yp, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)[0]
-    D = r0 + _spline(wx, wc, yp, 0)
+    D = r0 + _spline(wx, wc, yp)
     Yp = side * (yw0 + yp)
-    zr = _spline(rx, rc, side * (y_ws + Yp * cth - D * sth) - yr0, 0)
+    zr = _spline(rx, rc, side * (y_ws + Yp * cth - D * sth) - yr0)
     if np.isnan(zr):
         return np.inf
     return zr - (Yp * sth + D * cth)
+
+
+@njit(cache=True)
+def _gap_at(yp, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0):
+    """``_gap`` as a compiled call: the golden section's three calls share one copy."""
+    return _gap(yp, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
 
 
 @njit(cache=True)
@@ -128,21 +155,21 @@ def _refine(lo, hi, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0
     a, b = lo, hi
     x1 = b - _GOLDEN * (b - a)
     x2 = a + _GOLDEN * (b - a)
-    f1 = _gap(x1, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
-    f2 = _gap(x2, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
+    f1 = _gap_at(x1, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
+    f2 = _gap_at(x2, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
     for _ in range(60):
         if f1 < f2:
             b = x2
             x2 = x1
             f2 = f1
             x1 = b - _GOLDEN * (b - a)
-            f1 = _gap(x1, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
+            f1 = _gap_at(x1, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
         else:
             a = x1
             x1 = x2
             f1 = f2
             x2 = a + _GOLDEN * (b - a)
-            f2 = _gap(x2, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
+            f2 = _gap_at(x2, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
         if b - a < 1e-12:
             break
     if f1 < f2:
@@ -151,11 +178,9 @@ def _refine(lo, hi, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0
 
 
 @njit(cache=True)
-def _minima(side, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, only_global):
-    """Local minima of the gap along the wheel profile, refined; returns their number.
-
-    With ``only_global`` only the smallest one is refined (used inside the roll iteration).
-    """
+def _sample(side, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0):
+    """The gap at every point of the coarse ``grid`` of the wheel profile (``side`` +1.0 right,
+    -1.0 left, a float so that one compiled copy serves both wheels)."""
     cth = np.cos(theta)
     sth = np.sin(theta)
     cps = np.cos(psi)
@@ -164,15 +189,36 @@ def _minima(side, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, wh
     g = np.empty(n)
     for k in range(n):
         g[k] = _gap(grid[k], side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
+    return g
+
+
+@njit(cache=True)
+def _lowest(side, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0):
+    """The smallest gap along the wheel profile, refined around the lowest grid point (+inf off
+    the rail); used inside the roll iteration."""
+    g = _sample(side, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0)
+    k = 0
+    for j in range(1, g.shape[0]):  # the first smallest, as np.argmin (off the rail the gap is +inf, not NaN)
+        if g[j] < g[k]:
+            k = j
+    if not np.isfinite(g[k]):
+        return np.inf
+    n = grid.shape[0]
+    return _refine(grid[max(k - 1, 0)], grid[min(k + 1, n - 1)], side, y_ws, np.cos(theta), np.sin(theta),
+                   np.cos(psi), np.sin(psi), wx, wc, rx, rc, yw0, yr0, r0)[0]
+
+
+@njit(cache=True)
+def _minima(side, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where):
+    """Local minima of the gap along the wheel profile, refined, into ``gaps`` and ``where``;
+    returns their number."""
+    cth = np.cos(theta)
+    sth = np.sin(theta)
+    cps = np.cos(psi)
+    sps = np.sin(psi)
+    g = _sample(side, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0)
+    n = grid.shape[0]
     count = 0
-    if only_global:
-        k = np.argmin(g)
-        if not np.isfinite(g[k]):
-            return 0
-        lo = grid[max(k - 1, 0)]
-        hi = grid[min(k + 1, n - 1)]
-        gaps[0], where[0] = _refine(lo, hi, side, y_ws, cth, sth, cps, sps, wx, wc, rx, rc, yw0, yr0, r0)
-        return 1
     for k in range(n):
         if not np.isfinite(g[k]):
             continue
@@ -197,26 +243,22 @@ def _minima(side, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, wh
 
 
 @njit(cache=True)
-def _roll_residual(y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where):
-    nr = _minima(1, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, True)
-    gr = gaps[0] if nr > 0 else np.inf
-    nl = _minima(-1, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where, True)
-    gl = gaps[0] if nl > 0 else np.inf
+def _roll_residual(y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0):
+    gr = _lowest(1.0, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0)
+    gl = _lowest(-1.0, y_ws, psi, theta, grid, wx, wc, rx, rc, yw0, yr0, r0)
     return gr - gl, gr
 
 
 @njit(cache=True)
 def _solve_roll(y_ws, psi, theta0, grid, wx, wc, rx, rc, yw0, yr0, r0):
     """Roll angle with equal minimum gaps on both sides: (theta, z_drop, ok)."""
-    gaps = np.empty(1)
-    where = np.empty(1)
     a = theta0
-    fa, _ = _roll_residual(y_ws, psi, a, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+    fa, _ = _roll_residual(y_ws, psi, a, grid, wx, wc, rx, rc, yw0, yr0, r0)
     if not np.isfinite(fa):
         return np.nan, np.nan, False
     step = 1e-3
     b = a - step if fa < 0.0 else a + step
-    fb, _ = _roll_residual(y_ws, psi, b, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+    fb, _ = _roll_residual(y_ws, psi, b, grid, wx, wc, rx, rc, yw0, yr0, r0)
     tries = 0
     while fa * fb > 0.0 and tries < 40:
         step *= 2.0
@@ -224,7 +266,7 @@ def _solve_roll(y_ws, psi, theta0, grid, wx, wc, rx, rc, yw0, yr0, r0):
         b = a - step if fa < 0.0 else a + step
         if abs(b) > 0.5:
             return np.nan, np.nan, False
-        fb, _ = _roll_residual(y_ws, psi, b, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+        fb, _ = _roll_residual(y_ws, psi, b, grid, wx, wc, rx, rc, yw0, yr0, r0)
         if not np.isfinite(fb):
             return np.nan, np.nan, False
         tries += 1
@@ -235,7 +277,7 @@ def _solve_roll(y_ws, psi, theta0, grid, wx, wc, rx, rc, yw0, yr0, r0):
     c = a
     for _ in range(200):
         c = b - fb * (b - a) / (fb - fa)
-        fc, _ = _roll_residual(y_ws, psi, c, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+        fc, _ = _roll_residual(y_ws, psi, c, grid, wx, wc, rx, rc, yw0, yr0, r0)
         if fc == 0.0 or abs(b - a) < 1e-14:
             break
         if fc * fb < 0.0:
@@ -248,7 +290,7 @@ def _solve_roll(y_ws, psi, theta0, grid, wx, wc, rx, rc, yw0, yr0, r0):
         b, fb = c, fc
         if abs(fc) < 1e-15:
             break
-    _, gr = _roll_residual(y_ws, psi, c, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps, where)
+    _, gr = _roll_residual(y_ws, psi, c, grid, wx, wc, rx, rc, yw0, yr0, r0)
     return c, gr, True
 
 
@@ -268,8 +310,8 @@ def _table_core(shifts, yaws, grid, wx, wc, rx, rc, yw0, yr0, r0, out_theta, out
         theta = th
         out_theta[k] = th
         out_drop[k] = drop
-        count_r[k] = _minima(1, shifts[k], yaws[k], th, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps_r[k], where_r[k], False)
-        count_l[k] = _minima(-1, shifts[k], yaws[k], th, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps_l[k], where_l[k], False)
+        count_r[k] = _minima(1.0, shifts[k], yaws[k], th, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps_r[k], where_r[k])
+        count_l[k] = _minima(-1.0, shifts[k], yaws[k], th, grid, wx, wc, rx, rc, yw0, yr0, r0, gaps_l[k], where_l[k])
         cth, sth, cps, sps = np.cos(th), np.sin(th), np.cos(yaws[k]), np.sin(yaws[k])
         for m in range(count_r[k]):
             _, rail_r[k, m], x_r[k, m] = _contact_point(where_r[k, m], 1.0, shifts[k], cth, sth, cps, sps,
