@@ -198,6 +198,7 @@ def evolution(ds, orders=6):
 
 
 SPECTRUM_RANGE = 100.0  # amplitudes below the largest / 100 (40 dB under the peak) sit on the floor
+LEAST_AMPLITUDE = PM / UM  # 1 pm in µm: the lowest floor; a wheel with every order under it is round
 
 
 def _wheel_diameter(ds, diameter=None):
@@ -244,7 +245,10 @@ def spectrum(ds, diameter=None, limit=None):
 
     ``diameter`` (m) defaults to the result's wheel; ``limit`` a ``bands.LimitSpectrum`` or
     ``"iso3095"`` (the rail roughness limit of ISO 3095) drawn over the bands. Amplitudes more
-    than 40 dB under the largest are drawn on that floor with open markers."""
+    than 40 dB under the largest are drawn on that floor with open markers. Several wheels on one
+    rail (a ``wheel`` dimension) each have their own floor, 40 dB under their own largest, drawn
+    in their colour and stated in the legend; a wheel round at a time (every order under 1 pm) is
+    said so in the legend, not drawn."""
     from matplotlib.ticker import NullFormatter
 
     from railwear.geometry import bands
@@ -259,31 +263,46 @@ def spectrum(ds, diameter=None, limit=None):
     amp = {(i, k): bands.order_amplitudes(d.u.isel(time=k).values) for i, (_, d) in enumerate(rows) for k in (0, -1)}
     orders = amp[(0, 0)][0]
     amp = {key: a / UM for key, (_, a) in amp.items()}
-    # 40 dB under the peak, never under 1 pm (-120 dB re 1 µm): round-off is not drawn as a spectrum
-    floor = max(max(float(np.max(a)) for a in amp.values()) / SPECTRUM_RANGE, 1e-6)
-    peak = max(max(float(np.max(a)) for a in amp.values()), floor * SPECTRUM_RANGE)
-    above = np.nonzero(np.any([a > floor for a in amp.values()], axis=0))[0]
+    # 40 dB under the peak, never under 1 pm (-120 dB re 1 µm): round-off is not drawn as a spectrum;
+    # several wheels: each wheel's own (one wheel's polygon does not bury the others' spectra)
+    per_wheel = "wheel" in ds.u.dims
+    largest = {i: max(float(np.max(amp[(i, k)])) for k in (0, -1)) for i in range(len(rows))}
+    floors = ({i: max(a / SPECTRUM_RANGE, LEAST_AMPLITUDE) for i, a in largest.items()} if per_wheel else
+              dict.fromkeys(largest, max(max(largest.values()) / SPECTRUM_RANGE, LEAST_AMPLITUDE)))
+    rounds = {key: per_wheel and float(np.max(a)) < LEAST_AMPLITUDE for key, a in amp.items()}  # not drawn
+    shaped = [i for i in floors if not (rounds[(i, 0)] and rounds[(i, -1)])]
+    floor = min((floors[i] for i in shaped), default=LEAST_AMPLITUDE)
+    peak = max(max(largest.values()), floor * SPECTRUM_RANGE)
+    above = np.nonzero(np.any([a > floors[i] for (i, _), a in amp.items()], axis=0))[0]
     top = int(np.clip((above[-1] + 3) if above.size else 20, 20, orders.size))
     n = orders[:top]
     levels = {}
     for i, (label, d) in enumerate(rows):
         colour = f"C{i % 10}"
         for k, style, marker, when in ((0, "--", ".", "start"), (-1, "-", "o", "end")):
-            a = amp[(i, k)][:top]
-            shown = np.maximum(a, floor)
-            ax.plot(n, shown, color=colour, ls=style, marker=marker, ms=4, label=f"{label}, {when}")
-            below = a < floor
-            ax.plot(n[below], shown[below], ls="none", marker="o", ms=4, mfc="white", color=colour)
             if d_wheel is not None:
                 levels[(i, k)] = _band_levels(ds, d, k, d_wheel)
+            if rounds[(i, k)]:
+                ax.plot([], [], color=colour, ls=style, label=f"{label}, {when}: round (every order under 1 pm)")
+                continue
+            a = amp[(i, k)][:top]
+            shown = np.maximum(a, floors[i])
+            ax.plot(n, shown, color=colour, ls=style, marker=marker, ms=4, label=f"{label}, {when}")
+            below = a < floors[i]
+            ax.plot(n[below], shown[below], ls="none", marker="o", ms=4, mfc="white", color=colour)
+        if per_wheel and i in shaped:
+            ax.axhline(floors[i], color=colour, lw=0.8, ls=":", label=f"{label}: floor {floors[i]:.2g} µm")
     ax.set_yscale("log")
     # 10, 1, 0.1 rather than powers of ten, without mathtext (its parser took a quarter of this
     # figure's drawing); the axis spans at least 2.6 decades, so only the decades are labelled
     ax.yaxis.set_major_formatter(lambda v, _: f"{v:g}")
     ax.yaxis.set_minor_formatter(NullFormatter())
     ax.set_ylim(floor / 1.6, peak * 2.5)
-    ax.axhline(floor, color="0.6", lw=0.8, ls=":")
-    ax.plot([], [], ls="none", marker="o", mfc="white", color="0.4", label="under the floor: peak - 40 dB, at least 1 pm")
+    if not per_wheel:
+        ax.axhline(floor, color="0.6", lw=0.8, ls=":")
+    ax.plot([], [], ls="none", marker="o", mfc="white", color="0.4",
+            label=("under its wheel's floor: its peak - 40 dB, at least 1 pm" if per_wheel else
+                   "under the floor: peak - 40 dB, at least 1 pm"))
     ax.xaxis.get_major_locator().set_params(integer=True)
     ax.set(xlabel="polygon order n", ylabel="amplitude per order (µm)", xlim=(0.5, top + 0.5),
            title=_title(ds, "polygon spectrum at the start and the end"))
@@ -306,16 +325,24 @@ def spectrum(ds, diameter=None, limit=None):
             picks.append(t)
     wl_ax.set_xticks(picks, [f"{t:g}" for t in picks])
     wl_ax.set_xlabel(f"wavelength π D / n (m), wheel diameter D = {d_wheel:g} m ({origin})", fontsize="small")
-    # 40 dB under the largest band, never under 1 pm rms (-120 dB re 1 µm); an empty band has no level
-    top_level = max((float(np.nanmax(lv.level)) for lv in levels.values() if np.any(np.isfinite(lv.level))),
-                    default=-np.inf)
-    band_floor = shown_floor = max(top_level - 20 * np.log10(SPECTRUM_RANGE), -120.0)
+    # 40 dB under the largest band (several wheels: the wheel's own), never under 1 pm rms (-120 dB
+    # re 1 µm); an empty band has no level
+    def top_level(keys):
+        return max((float(np.nanmax(levels[key].level)) for key in keys if np.any(np.isfinite(levels[key].level))),
+                   default=-np.inf)
+
+    lowest = 20 * np.log10(LEAST_AMPLITUDE)
+    everything = top_level(levels)
+    band_floors = {i: max((top_level([(i, 0), (i, -1)]) if per_wheel else everything) - 20 * np.log10(SPECTRUM_RANGE),
+                          lowest) for i in range(len(rows))}
+    band_floor = min((band_floors[i] for i in shaped), default=lowest)
     for i, (label, _) in enumerate(rows):
         for k, style, marker, when in ((0, "--", ".", "start"), (-1, "-", "o", "end")):
             lv = levels[(i, k)]
-            shown = np.where(lv.level >= band_floor, lv.level, np.nan)
+            shown = np.where(lv.level >= band_floors[i], lv.level, np.nan)
             colour = f"C{i % 10}"
-            band_ax.plot(lv.wavelength, shown, color=colour, ls=style, lw=1.0, label=f"{label}, {when}")
+            band_ax.plot(lv.wavelength, shown, color=colour, ls=style, lw=1.0,
+                         label=f"{label}, {when}" + (": round" if rounds[(i, k)] else ""))
             band_ax.plot(lv.wavelength[lv.resolved], shown[lv.resolved], ls="none", marker=marker, ms=4, color=colour)
             band_ax.plot(lv.wavelength[~lv.resolved], shown[~lv.resolved], ls="none", marker="o", ms=4, mfc="white",
                          color=colour)
@@ -331,10 +358,13 @@ def spectrum(ds, diameter=None, limit=None):
     band_ax.set_ylim(bottom=band_floor - 3)
     # the axis spans the bands drawn (a level within 40 dB of the largest) and the limit: never the
     # empty bands past the last line of the spectrum
-    drawn = [lv.wavelength[np.isfinite(lv.level) & (lv.level >= shown_floor)] for lv in levels.values()]
+    drawn = [lv.wavelength[np.isfinite(lv.level) & (lv.level >= band_floors[i])] for (i, _), lv in levels.items()]
     span = np.concatenate(drawn + ([limit.wavelength] if limit is not None else []))
     if span.size == 0:
         span = np.concatenate([lv.wavelength for lv in levels.values()])
+    if span.max() < 4 * span.min():  # one or two bands: an octave either side, so that two ticks show
+        middle = np.sqrt(span.max() * span.min())
+        span = np.array([middle / 2, middle * 2])
     band_ticks = bands.nominal_wavelength(np.arange(-9, 40, 3))
     band_ticks = band_ticks[(band_ticks <= span.max() * 1.05) & (band_ticks >= span.min() / 1.05)]
     band_ax.set_xscale("log")
@@ -345,7 +375,8 @@ def spectrum(ds, diameter=None, limit=None):
     band_ax.set_xticks(band_ticks, [f"{t:g}" for t in band_ticks])
     band_ax.xaxis.set_minor_formatter(NullFormatter())  # the band centres are the labels
     band_ax.set(xlabel="wavelength, one-third-octave band centre (m)", ylabel="band level (dB re 1 µm)",
-                title="one-third-octave band levels in wavelength (EN 15610), 40 dB under the peak")
+                title="one-third-octave band levels (EN 15610), 40 dB under each wheel's peak" if per_wheel else
+                "one-third-octave band levels in wavelength (EN 15610), 40 dB under the peak")
     band_ax.grid(True, which="major", color="0.9", lw=0.6)
     # under the axis at the foot of the figure, the axis raised by the legend's height
     labels = band_ax.get_legend_handles_labels()[1]

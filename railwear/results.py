@@ -216,7 +216,8 @@ def summary(ds: xr.Dataset):
         polygon, notes = _polygon(d, entry, life)
         entry.update(polygon)
         why.update(notes)
-        entry.update(_wheels(d, entry["dominant_order"]))
+        # a surface per wheel: the wheels' combination is the whole result's, not this row's
+        entry.update(_wheels(ds if "wheel" in ds.dims and "wheel" not in d.dims else d, entry["dominant_order"]))
         entry.update(_wheel_on_rail(d, entry["dominant_order"], life))
         out.append(_defined(entry, why))
     return {"scenario": ds.attrs.get("scenario_name", ""), "scenario_hash": ds.attrs.get("scenario_hash", ""),
@@ -443,8 +444,9 @@ def run_lines(r):
                    + _growth_text(r, "leading_growth_per_10000_km") + ")" if r["leading_order"] > 0 else
                    "no order present at the start has a defined growth rate")
         growth = f"out-of-round rms {rms} over the run, {leading}"
-    lines = [f"{r['speed_kmh']:g} km/h: {r['regime']}, {shape}, removed {r['max_removed_depth_mm']:.3f} mm at the "
-             f"most worn spot ({r['mean_removed_depth_mm']:.3f} mm mean) after {r['distance_km']:.0f} km; "
+    wheel = f"wheel at {r['wheel']:g} m, " if "wheel" in r else ""  # one of several wheels on the rail
+    lines = [f"{wheel}{r['speed_kmh']:g} km/h: {r['regime']}, {shape}, removed {r['max_removed_depth_mm']:.3f} mm "
+             f"at the most worn spot ({r['mean_removed_depth_mm']:.3f} mm mean) after {r['distance_km']:.0f} km; "
              f"peak-to-peak {r['peak_to_peak_initial_um']:.1f} -> {r['peak_to_peak_um']:.1f} um; {growth}"]
     if "wavelength_mm" in r:
         growth = _growth_text(r, "dominant_growth_per_10000_km")

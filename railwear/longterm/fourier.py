@@ -134,19 +134,21 @@ class Harmonics:
         if not duration > 0:
             raise ScenarioError("duration must be > 0 (s)")
         u0 = np.asarray(u0, float)
-        if peak_to_peak_limit is not None and np.ptp(u0) >= peak_to_peak_limit:
-            raise ScenarioError(f"solver.peak_to_peak_limit_mm: the wheel starts {np.ptp(u0) / MM:.4g} mm out of "
-                                f"round, above the limit {peak_to_peak_limit / MM:.4g} mm")
+        if peak_to_peak_limit is not None and _out_of_round(u0[None])[0] >= peak_to_peak_limit:
+            raise ScenarioError(f"solver.peak_to_peak_limit_mm: the wheel starts {_out_of_round(u0[None])[0] / MM:.4g} "
+                                f"mm out of round, above the limit {peak_to_peak_limit / MM:.4g} mm")
         limited = depth_limit is not None or peak_to_peak_limit is not None
 
         def reached(u):
             # An overflowed harmonic has passed either limit; the bisection finds where, finite.
-            hit = ~np.all(np.isfinite(u), axis=1) if limited else np.zeros(len(u), bool)
+            # With several wheels (u of (time, wheel, angle)) the first wheel to reach a limit stops the run.
+            every = tuple(range(1, u.ndim))
+            hit = ~np.all(np.isfinite(u), axis=every) if limited else np.zeros(len(u), bool)
             with np.errstate(invalid="ignore"):
                 if depth_limit is not None:
-                    hit |= np.max(u0[None, :] - u, axis=1) >= depth_limit
+                    hit |= np.max(u0[None] - u, axis=every) >= depth_limit
                 if peak_to_peak_limit is not None:
-                    hit |= np.ptp(u, axis=1) >= peak_to_peak_limit
+                    hit |= _out_of_round(u) >= peak_to_peak_limit
             return hit
 
         t = np.linspace(0.0, duration, n_save)
@@ -161,12 +163,13 @@ class Harmonics:
             stop = hi
             t = np.append(t[: past[0]], stop)
             u = np.vstack([u[: past[0]], self.evolve(u0, stop)])
-        n = u.shape[1]
+        n = u.shape[-1]
         orders = np.arange(1, n // 2 + 1)
         lam = self.rates(orders)
         self._check_finite(u, t, lam, orders)
         return xr.Dataset(
-            {"u": (("time", "angle"), u, {"units": "m", "long_name": "radius deviation from the nominal radius"}),
+            {"u": (("time", "angle") if u.ndim == 2 else ("time", "wheel", "angle"), u,
+                   {"units": "m", "long_name": "radius deviation from the nominal radius"}),
              "growth_rate": (("order",), lam.real, {"units": "s-1", "long_name": "growth rate of the harmonic"}),
              "drift": (("order",), -lam.imag / orders,
                        {"units": "rad s-1", "long_name": "drift of the harmonic round the wheel"})},
@@ -180,7 +183,7 @@ class Harmonics:
     def _check_finite(self, u, t, lam, orders):
         """Raise :class:`NumericalInstabilityError` at the first saved state ``u`` (m) at times
         ``t`` (s) that is not finite, naming the fastest rate ``lam`` (1/s) and its order."""
-        bad = ~np.all(np.isfinite(u), axis=1)
+        bad = ~np.all(np.isfinite(u), axis=tuple(range(1, u.ndim)))
         if not bad.any():
             return
         k = int(np.argmax(bad))
@@ -194,6 +197,12 @@ class Harmonics:
         good = max(k - 1, 0)
         raise NumericalInstabilityError(f"the Fourier solution is not finite: {why}",
                                         last_good=u[good], last_time=float(t[good]))
+
+
+def _out_of_round(u):
+    """Peak to peak (m) of ``u`` (``(time, angle)``, or ``(time, wheel, angle)``: the wheel most
+    out of round) at each time."""
+    return np.ptp(u, axis=-1).reshape(len(u), -1).max(axis=1)
 
 
 @dataclass(frozen=True)
@@ -325,8 +334,11 @@ class FourierStrategy(Strategy, name="fourier"):
         solution is exact, so there is nothing to checkpoint or resume and ``checkpoint`` and
         ``resume`` are not used."""
         speed = self.fourier.speed
+        # several wheels (WheelsFourier): one row per wheel, each checked as one wheel's start
+        start = (np.array([checked_start(row, until, depth_limit) for row in u0]) if np.ndim(u0) == 2 else
+                 checked_start(u0, until, depth_limit))
         try:
-            ds = self.fourier.run(checked_start(u0, until, depth_limit), until * self.life_distance / speed,
+            ds = self.fourier.run(start, until * self.life_distance / speed,
                                   self.n_save, depth_limit, self.peak_to_peak_limit)
         except NumericalInstabilityError as e:  # its time in seconds, the strategy's in normed time
             raise NumericalInstabilityError(str(e), last_good=e.last_good,

@@ -751,11 +751,46 @@ class WheelsFourier(Harmonics):
         :meth:`rate_matrix`)."""
         return own_rates(self.rate_matrix(np.atleast_1d(np.asarray(orders, float))))
 
+    def evolve(self, u0, t):
+        """:meth:`Harmonics.evolve` of one wheel's ``u0`` (in the growing combinations); ``u0`` of
+        one row per wheel (``(wheels, angle)``, m) gives every wheel's ``u`` at the times ``t``
+        (s), ``(len(t), wheels, angle)``: each order's harmonics over the wheels (``rfft``
+        coefficients ``ĉ``) evolve as ``ĉ(t) = V e^{Λt} V⁻¹ ĉ(0)``, the eigen-decomposition
+        ``M̄_n = V Λ V⁻¹`` (locked), or each wheel's on its own ``M̄_jj`` (drifting); the mean
+        radius of every wheel falls at :attr:`mean_rate`."""
+        u0 = np.asarray(u0, float)
+        if u0.ndim == 1:
+            return super().evolve(u0, t)
+        if u0.ndim != 2 or u0.shape[0] != len(self.positions) or u0.shape[1] < 4:
+            raise ScenarioError(f"u0: one row per wheel ({len(self.positions)}) of at least 4 angles, "
+                                f"not shape {u0.shape}")
+        t = np.atleast_1d(np.asarray(t, float))
+        n = u0.shape[1]
+        c0 = np.fft.rfft(u0, axis=-1)
+        orders = np.arange(1, c0.shape[1])
+        c = np.empty((t.size,) + c0.shape, complex)
+        c[:, :, 0] = c0[None, :, 0] + n * self.mean_rate * t[:, None]
+        with np.errstate(over="ignore", invalid="ignore"):  # an overflow is for the caller's guard to report
+            if self.phases == "locked":
+                lam, V = self.combinations(orders)
+                weights = np.linalg.solve(V, c0[:, 1:].T[..., None])[..., 0]  # V⁻¹ ĉ(0), (orders, wheels)
+                c[:, :, 1:] = np.einsum("nji,tni,ni->tjn", V, np.exp(lam[None] * t[:, None, None]), weights)
+                c[t == 0, :, 1:] = c0[:, 1:]  # the start itself, without the round-off of V V⁻¹
+            else:
+                c[:, :, 1:] = c0[None, :, 1:] * np.exp(t[:, None, None] * self.wheel_rates(orders).T[None])
+            return np.fft.irfft(c, n, axis=-1)
+
     def run(self, u0, duration, n_save=101, depth_limit=None, peak_to_peak_limit=None):
         """:meth:`Harmonics.run`, with each order's growing combination over the wheels:
         ``combination_amplitude`` (relative to the largest) and ``combination_phase`` (rad,
-        against the first wheel) on ``(order, wheel)``."""
-        return self.describe(super().run(u0, duration, n_save, depth_limit, peak_to_peak_limit))
+        against the first wheel) on ``(order, wheel)``; ``u0`` of one row per wheel
+        (:meth:`evolve`) gives ``u`` on ``(time, wheel, angle)``, the ``wheel`` coordinate each
+        wheel's distance along the rail from the first (m)."""
+        ds = super().run(u0, duration, n_save, depth_limit, peak_to_peak_limit)
+        if ds.u.ndim == 3:
+            ds = ds.assign_coords(wheel=("wheel", np.asarray(self.positions),
+                                         {"units": "m", "long_name": "wheel's distance behind the first on the rail"}))
+        return self.describe(ds)
 
     def describe(self, ds):
         """``ds`` (a result over ``order``) with the wheels: their positions, the phases, each

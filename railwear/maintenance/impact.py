@@ -468,7 +468,7 @@ def wheel_load(scenario=None, speeds_kmh=(40.0, 70.0, 120.0), wheel=None, result
     elif wheel is not None:
         u, words = shape_from_file(wheel, sc, sc.solver.points, angle_unit, deviation_unit, nominal_diameter)
     else:
-        u = build.initial_state(sc)
+        u = build.initial_state(sc, "railwear load (the shaped wheel leads, the others round)")
         words = f"the scenario's initial wheel ({sc.initial.kind}, {np.ptp(u) / UM:.1f} um peak to peak)"
     try:
         inputs = DynamicLoad(sc.body.case(sc), u, tuple(kmh_to_m_s(np.atleast_1d(np.asarray(speeds_kmh, float)))),

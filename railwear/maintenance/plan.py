@@ -76,7 +76,7 @@ class ProfileRates:
 def re_profiled(scenario):
     """The scenario's ``[initial]`` wheel about its mean (m on the grid): a new or re-profiled
     wheel's roughness, where a life starts and what a turning adds with ``add_initial``."""
-    base = build.initial_state(scenario)
+    base = build.initial_state(scenario, "a wheel's life plan")
     return base - np.mean(base)
 
 

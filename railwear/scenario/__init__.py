@@ -151,14 +151,22 @@ def new_layout(data, source):
 
 def parse_scenario(text, source="scenario", base_dir=None):
     """Validate TOML text (or its plain data) into a :class:`Scenario`; a relative
-    ``initial.file`` is taken from ``base_dir``."""
+    ``initial.file`` (or a wheel's in ``[[initial.wheels]]``) is taken from ``base_dir``."""
     data = parse_toml(text, source) if isinstance(text, str) else text
     scenario = validated(Scenario, data, source)
-    file = scenario.initial.file
-    if file and base_dir is not None and not Path(file).is_absolute():
-        initial = scenario.initial.model_copy(update={"file": str(Path(base_dir, file).resolve())})
-        scenario = scenario.model_copy(update={"initial": initial})
-    return scenario
+    if base_dir is None:
+        return scenario
+
+    def located(init):
+        file = init.file
+        if file and not Path(file).is_absolute():
+            return init.model_copy(update={"file": str(Path(base_dir, file).resolve())})
+        return init
+
+    initial = located(scenario.initial)
+    if initial.wheels is not None and any(w.file for w in initial.wheels):
+        initial = initial.model_copy(update={"wheels": [located(w) for w in initial.wheels]})
+    return scenario if initial is scenario.initial else scenario.model_copy(update={"initial": initial})
 
 
 def scenario_text(path_or_name, names, directory, kind="scenario"):
@@ -328,7 +336,7 @@ def to_toml(scenario: Scenario):
     return tomli_w.dumps(scenario.applicable())
 
 
-_ADDED_LATER = {"operation": ("daily_distance_km",),
+_ADDED_LATER = {"operation": ("daily_distance_km",), "initial": ("wheels",),
                 "body": ("wheel_positions_m", "wheel_phases", "rolling_contact", "tangential_compliance")}
 
 

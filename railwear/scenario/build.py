@@ -51,9 +51,24 @@ def odd_terms(scenario: Scenario):
                  for value in (w.drift_rad, w.dispersion_rad3))
 
 
-def initial_state(scenario: Scenario):
-    """``u0`` on the solver grid (m), seeded by ``initial.seed``."""
-    init, n = scenario.initial, scenario.solver.points
+def initial_state(scenario: Scenario, what="this"):
+    """``u0`` on the solver grid (m) of the one wheel ``[initial]`` describes; ``[[initial.wheels]]``
+    (:func:`initial_wheels`) is refused, saying ``what`` takes one wheel."""
+    if scenario.initial.wheels is not None:
+        raise ScenarioError(f"initial.wheels: {what} starts from one wheel; give the fields of [initial] "
+                            "instead of a [[initial.wheels]] per wheel")
+    return wheel_surface(scenario.initial, scenario.solver.points)
+
+
+def initial_wheels(scenario: Scenario):
+    """``u0`` of every wheel of ``[[initial.wheels]]`` on the solver grid (m), ``(wheels, points)``."""
+    return np.array([wheel_surface(init, scenario.solver.points, f"initial.wheels[{k}]")
+                     for k, init in enumerate(scenario.initial.surfaces)])
+
+
+def wheel_surface(init, n, field="initial"):
+    """The radius deviation (m) on ``n`` angles of one wheel's ``[initial]`` (an
+    :class:`~railwear.scenario.schema.InitialWheel`, named ``field`` in errors), seeded by its ``seed``."""
     if init.kind == "round":
         return np.zeros(n)
     if init.kind == "random":
@@ -63,14 +78,16 @@ def initial_state(scenario: Scenario):
     if init.kind == "harmonics":
         phases = None if init.phases_deg is None else np.deg2rad(init.phases_deg)
         return roundness.harmonics(n, init.orders, np.array(init.amplitudes_um) * UM, phases)
-    angle, deviation = read_measured(init.file)
+    angle, deviation = read_measured(init.file, field=f"{field}.file")
     return roundness.resample_measured(angle, deviation, n)
 
 
 def initial_wear(scenario: Scenario):
-    """What the strategy starts from: ``u0`` (m), or ``None`` for a body that starts new (the
-    wheelset's new profile)."""
-    return None if scenario.body.starts_new else initial_state(scenario)
+    """What the strategy starts from: ``u0`` (m; with ``[[initial.wheels]]`` one row per wheel),
+    or ``None`` for a body that starts new (the wheelset's new profile)."""
+    if scenario.body.starts_new:
+        return None
+    return initial_state(scenario) if scenario.initial.wheels is None else initial_wheels(scenario)
 
 
 def patch(scenario: Scenario):

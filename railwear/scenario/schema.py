@@ -362,7 +362,11 @@ class Solver(_Section):
         return self
 
 
-class Initial(_Section):
+class InitialWheel(_Section):
+    """One wheel's starting radius deviation: ``kind`` random (``rms_um`` over orders
+    ``lowest_order..highest_order``, amplitude ∝ ``n^-amplitude_slope``, ``seed``), harmonics
+    (``orders``, ``amplitudes_um``, ``phases_deg``), measured (``file``) or round."""
+
     kind: Literal["random", "harmonics", "measured", "round"] = "random"
     rms_um: Annotated[float, Field(ge=0, le=1e4)] = 40.0  # 10 mm out of round is long past scrap
     lowest_order: Count = 2
@@ -390,6 +394,28 @@ class Initial(_Section):
         return self
 
 
+class Initial(InitialWheel):
+    """``[initial]``: the wheel's starting surface (:class:`InitialWheel`'s fields); with several
+    wheels on the rail (``body.wheel_positions_m``) all but the first start round, or ``wheels``
+    gives each its own: one ``[[initial.wheels]]`` per wheel, in the order of the positions, and
+    then none of the fields above."""
+
+    wheels: Annotated[list[InitialWheel], Field(min_length=2, max_length=MAX_LIST)] | None = None
+
+    @model_validator(mode="after")
+    def _one_way(self):
+        given = sorted(self.model_fields_set - {"wheels"})
+        if self.wheels is not None and given:
+            raise refuse(given[0], "the wheels' surfaces are given per wheel in [[initial.wheels]]: leave it out here")
+        return self
+
+    @property
+    def surfaces(self) -> tuple:
+        """Each wheel's :class:`InitialWheel` (``wheels``), or this section alone."""
+        return tuple(self.wheels) if self.wheels is not None else (self,)
+
+
+PER_WHEEL_STRATEGIES = ("fourier", "stepwise", "direct")  # those that run [[initial.wheels]]
 OPTIONAL_PARTS = ("solver.dealias", "solver.dt", "solver.epsilon", "solver.nu", "wear_rate",
                   "solver.peak_to_peak_limit_mm", "track")  # read by some strategies or bodies only
 EQUATION = frozenset({"solver.dealias", "solver.dt", "solver.epsilon", "solver.nu"})  # the evolution equation's
@@ -866,15 +892,37 @@ class Scenario(_Section):
 
     def _orders_on_grid(self):
         """The initial orders resolved on ``solver.points``: below the Nyquist order ``points / 2``."""
+        self._initial_wheels()
         if self.body.starts_new:
             return
-        init, points = self.initial, self.solver.points
+        points = self.solver.points
         top = points // 2 - 1
-        if init.kind == "random" and init.highest_order > top:
-            raise refuse(("initial", "highest_order"), f"must be at most {top} on solver.points = {points}")
-        for i, order in enumerate(init.orders or ()):
-            if init.kind == "harmonics" and order > top:
-                raise refuse(("initial", "orders", i), f"must be at most {top} on solver.points = {points}")
+        per_wheel = self.initial.wheels is not None
+        for k, init in enumerate(self.initial.surfaces):
+            at = ("initial", "wheels", k) if per_wheel else ("initial",)
+            if init.kind == "random" and init.highest_order > top:
+                raise refuse(at + ("highest_order",), f"must be at most {top} on solver.points = {points}")
+            for i, order in enumerate(init.orders or ()):
+                if init.kind == "harmonics" and order > top:
+                    raise refuse(at + ("orders", i), f"must be at most {top} on solver.points = {points}")
+
+    def _initial_wheels(self):
+        """``[[initial.wheels]]``: one per wheel of ``body.wheel_positions_m``, under a strategy
+        that carries each wheel's surface (:data:`PER_WHEEL_STRATEGIES`)."""
+        wheels = self.initial.wheels
+        if wheels is None:
+            return
+        positions = getattr(self.body, "wheel_positions_m", None) or ()
+        if len(positions) < 2:
+            raise refuse(("initial", "wheels"), "one surface per wheel needs several wheels on the rail "
+                                                "(body.wheel_positions_m); one wheel takes the fields of [initial]")
+        if len(wheels) != len(positions):
+            raise refuse(("initial", "wheels"), f"one [[initial.wheels]] per wheel of body.wheel_positions_m "
+                                                f"({len(positions)}), in their order, not {len(wheels)}")
+        if self.strategy.kind not in PER_WHEEL_STRATEGIES:
+            raise refuse(("initial", "wheels"), f"the {self.strategy.kind} strategy runs the wheels in one growing "
+                                                f"combination; a surface per wheel runs with the "
+                                                f"{', '.join(PER_WHEEL_STRATEGIES)} strategies")
 
     def _stepwise_steps(self):
         """A guard on the work of a step limit: at most :data:`MAX_LONGTERM_STEPS` steps of
