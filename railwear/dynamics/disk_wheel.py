@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import types
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,6 +15,69 @@ from railwear.dynamics.creep_law import check_creep_law
 from railwear.errors import ScenarioError
 
 __all__ = ["DiskWheelModel"]
+
+
+_INTERPRETED = {}  # compiled kernel -> its interpreted form
+
+
+def _interpreted(kernel):
+    """The compiled ``kernel``'s own source run by the interpreter, with every compiled function
+    it calls interpreted too. The same operations in the same order give the same floating-point
+    numbers (no fast-math in the kernels); a few calls from Python then need neither numba's
+    registries nor a cache load (0.3-0.4 s of CPU in a fresh process)."""
+    if kernel not in _INTERPRETED:
+        source = kernel.py_func
+        names = dict(source.__globals__)
+        _INTERPRETED[kernel] = types.FunctionType(source.__code__, names, source.__name__, source.__defaults__)
+        for name in source.__code__.co_names:
+            if hasattr(names.get(name), "py_func"):  # a compiled callee
+                names[name] = _interpreted(names[name])
+    return _INTERPRETED[kernel]
+
+
+def _bracketed_root(f, a, b, xtol, rtol, maxiter=100):
+    """A root of ``f`` in ``[a, b]`` (``f(a)``, ``f(b)`` of opposite signs) by Brent's method:
+    inverse quadratic or secant steps, a bisection where they would not shrink the bracket fast
+    enough, to ``|x - root| <= xtol + rtol |x|``. Written out so that a steady creepage does not
+    import scipy.optimize (0.07-0.16 s of a command's start) for one root; its steps are those of
+    ``scipy.optimize.brentq``, so the root is the same bit for bit (tests/dynamics/test_disk_wheel.py)."""
+    x_old, x = a, b
+    f_old, fx = f(x_old), f(x)
+    if f_old == 0.0:
+        return x_old
+    if fx == 0.0:
+        return x
+    if math.copysign(1.0, f_old) == math.copysign(1.0, fx):
+        raise ValueError("the bracket's ends must give values of opposite signs")
+    far = f_far = step = last_step = 0.0
+    for _ in range(maxiter):
+        if f_old != 0.0 and fx != 0.0 and math.copysign(1.0, f_old) != math.copysign(1.0, fx):
+            far, f_far = x_old, f_old  # the root lies between x and far
+            step = last_step = x - x_old
+        if abs(f_far) < abs(fx):  # keep the smaller value at x
+            x_old, x, far = x, far, x
+            f_old, fx, f_far = fx, f_far, fx
+        tol = (xtol + rtol * abs(x)) / 2
+        half = (far - x) / 2
+        if fx == 0.0 or abs(half) < tol:
+            return x
+        if abs(last_step) > tol and abs(fx) < abs(f_old):
+            if x_old == far:  # secant through x_old and x
+                trial = -fx * (x - x_old) / (fx - f_old)
+            else:  # inverse quadratic through x_old, x and far
+                slope_old = (f_old - fx) / (x_old - x)
+                slope_far = (f_far - fx) / (far - x)
+                trial = -fx * (f_far * slope_far - f_old * slope_old) / (slope_far * slope_old * (f_far - f_old))
+            if 2 * abs(trial) < min(abs(last_step), 3 * abs(half) - tol):
+                last_step, step = step, trial
+            else:
+                last_step = step = half
+        else:
+            last_step = step = half
+        x_old, f_old = x, fx
+        x += step if abs(step) > tol else (tol if half > 0 else -tol)
+        fx = f(x)
+    raise RuntimeError(f"no root within {maxiter} steps")
 
 
 @dataclass(frozen=True, eq=False)
@@ -158,7 +222,7 @@ class DiskWheelModel:
                 curve, s = self._creep_curve, abs(force) / limit
                 ratio = np.interp(s / (1.0 + s), np.linspace(0.0, 1.0, curve.size), curve)
                 return math.copysign(limit * ratio, force) - demand
-            return force * k.saturation_factor(abs(force), limit) - demand
+            return force * _interpreted(k.saturation_factor)(abs(force), limit) - demand
 
         xi_lin = demand / self.f11
         if not math.isfinite(limit):
@@ -166,9 +230,7 @@ class DiskWheelModel:
         upper = 3.0 * xi_lin
         while residual(upper) * np.sign(demand) < 0.0:  # FASTSIM approaches full slip slowly
             upper *= 2.0
-        from scipy.optimize import brentq  # here, not at import: scipy.optimize costs 0.2-0.6 s
-
-        return brentq(residual, 0.0, upper, xtol=1e-16, rtol=1e-14)
+        return _bracketed_root(residual, 0.0, upper, xtol=1e-16, rtol=1e-14)
 
     def params(self) -> np.ndarray:
         p = np.zeros(k.DW_N_PARAMS)
@@ -241,8 +303,9 @@ class DiskWheelModel:
         """``(A, B, C, D)`` of steady rolling (at the steady creepage of the torque) with the
         filtered radius deviation ``u_bar`` as input: ``x' = A x + B u_bar``,
         ``[N, xi, Fx, power] = C x + D u_bar`` (deviations from steady rolling), by central
-        differences of the compiled kernel. The rotation angle ``phi`` only drifts and does not
-        act on the rest (a uniform ``u`` makes ``x_c`` irrelevant)."""
+        differences of the kernel (its source interpreted: the compiled kernel's numbers). The
+        rotation angle ``phi`` only drifts and does not act on the rest (a uniform ``u`` makes
+        ``x_c`` irrelevant)."""
         p = self.params()
         p[k.DW_N_CELLS] = 2
         p[k.DW_CREEP_TABLE_OFFSET] = 5  # after the uniform surface's 2 nodes and 3 cumulative values
@@ -258,16 +321,15 @@ class DiskWheelModel:
             dx = math.pi
             return np.concatenate([[u, u, 0.0, u * dx, 2.0 * u * dx], self._creep_curve])
 
-        surf0 = uniform(0.0)  # the compiled entry points for these argument types, no look-up per call
-        rhs = k.rhs.bind(self.kind, 0.0, y0.copy(), p, surf0, np.empty(n))
-        outputs = k.outputs.bind(self.kind, np.zeros(1), y0[None, :].copy(), p, surf0, k.DW_N_OUTPUTS)
+        # the kernels' source interpreted: 36 calls, bit for bit the compiled ones' numbers
+        rhs, outputs = _interpreted(k.disk_wheel_rhs), _interpreted(k.disk_wheel_outputs)
 
         def evaluate(y, u):
-            f = np.empty(n)
+            f, g = np.empty(n), np.empty(k.DW_N_OUTPUTS)
             surf = uniform(u)
-            rhs(self.kind, 0.0, y, p, surf, f)
-            g = outputs(self.kind, np.zeros(1), y[None, :], p, surf, k.DW_N_OUTPUTS)[0, :4]
-            return f, g
+            rhs(0.0, y, p, surf, f)
+            outputs(0.0, y, p, surf, g)
+            return f, g[:4]
 
         a, c = np.zeros((n, n)), np.zeros((4, n))
         for j in range(n):
