@@ -956,6 +956,8 @@ class Scenario(_Section):
         data = self.model_dump(**{"mode": "json", "exclude_none": True, **dump})
         if self.operation.cycle is not None or self.operation.line is not None:
             data["contact"].pop("traction_coefficient", None)  # the duty cycle's segments carry the demand
+        if self.initial.wheels is not None:  # each wheel's surface in [[initial.wheels]], none of [initial]'s own
+            data["initial"] = {"wheels": data["initial"]["wheels"]}
         for name, serves in self.body.serves.items():
             if self.strategy.needs not in serves:
                 data["body"].pop(name, None)

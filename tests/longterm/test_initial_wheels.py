@@ -178,6 +178,11 @@ def test_railwear_run_on_a_file_with_a_surface_per_wheel(tmp_path):
     assert [r["wheel"] for r in runs] == [0.0, 2.4] and [r["dominant_order"] for r in runs] == [ORDER, ORDER]
     assert runs[1]["peak_to_peak_initial_um"] == 0 and runs[1]["round_at_start"]
     assert "wheel at 2.4 m, 70 km/h: " in out.stdout
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "out" / "result.nc") as ds:  # the stored scenario reads back, same hash
+        stored = parse_scenario(ds.attrs["scenario"])
+        assert stored.initial.wheels is not None and scenario_hash(stored) == ds.attrs["scenario_hash"]
     (tmp_path / "bad.toml").write_text(bogie_text(PER_WHEEL + '[[initial.wheels]]\nkind = "round"\n\n'))
     bad = subprocess.run(command + [str(tmp_path / "bad.toml")], capture_output=True, text=True, timeout=300)
     assert bad.returncode == 2 and "Traceback" not in bad.stderr and bad.stderr.strip().count("\n") == 0
