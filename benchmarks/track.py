@@ -107,6 +107,12 @@ class EigSpans:
             P[short] = expm(self.A[short] * x)
         return P
 
+    def powers(self, X):
+        return (X,)
+
+    def apply(self, x, powers):
+        return self.at(x) @ powers[0]
+
 
 def eig_waves(T):
     """The Floquet waves from ``numpy.linalg.eig`` of the cell matrix, sorted by ``|λ| < 1``."""

@@ -119,6 +119,39 @@ class _Spans:
         x = float(length)
         if x == 0.0:
             return np.broadcast_to(np.eye(4, dtype=complex), self.A.shape).copy()
+        c, close = self._coefficients(x)
+        P = (c[0, :, None, None] * np.eye(4) + c[1, :, None, None] * self.A + c[2, :, None, None] * self.A2
+             + c[3, :, None, None] * self.A3)
+        if np.any(close):
+            from scipy.linalg import expm  # only for nearly equal roots, not at import
+
+            P[close] = expm(self.A[close] * x)
+        return P
+
+    def powers(self, X: np.ndarray) -> tuple:
+        """``(X, A X, A² X, A³ X)`` of ``X`` (n, 4, k), for :meth:`apply`."""
+        AX = self.A @ X
+        return X, AX, self.A @ AX, self.A2 @ AX
+
+    def apply(self, length: float, powers: tuple) -> np.ndarray:
+        """``P(length) X`` (n, 4, k) from ``powers`` of ``X`` (:meth:`powers`): ``Σ c_j A^j X``,
+        without forming ``P``."""
+        x = float(length)
+        if x == 0.0:
+            return powers[0].copy()
+        c, close = self._coefficients(x)
+        PX = c[0, :, None, None] * powers[0]
+        for j in (1, 2, 3):
+            PX += c[j, :, None, None] * powers[j]
+        if np.any(close):
+            from scipy.linalg import expm
+
+            PX[close] = expm(self.A[close] * x) @ powers[0][close]
+        return PX
+
+    def _coefficients(self, x):
+        """``(c, close)``: ``c₀ … c₃`` (4, n) at ``x`` ≠ 0 (see the class), and where the roots are
+        too close for them (those need ``expm``)."""
         s1, s2 = self.s1, self.s2
         big = np.abs(s1) * x * x
         series = big < SERIES
@@ -135,13 +168,7 @@ class _Spans:
             c[:, direct] = (Cb - b * c2, Sb - b * c3, c2, c3)
         if np.any(series):
             c[:, series] = self._series(self.p[series], self.q[series], x)
-        P = (c[0, :, None, None] * np.eye(4) + c[1, :, None, None] * self.A + c[2, :, None, None] * self.A2
-             + c[3, :, None, None] * self.A3)
-        if np.any(close):
-            from scipy.linalg import expm  # only for nearly equal roots, not at import
-
-            P[close] = expm(self.A[close] * x)
-        return P
+        return c, close
 
     @staticmethod
     def _series(p, q, x):
@@ -174,14 +201,40 @@ def _split_waves(vectors, right_mask):
     return sorted_vecs[..., :2], sorted_vecs[..., 2:], order
 
 
+_PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))  # row pairs; pair 5 - k is pair k's complement
+_PAIR_SIGNS = np.array([1.0, -1.0, 1.0, 1.0, -1.0, 1.0])  # (-1)^(i + j + 1) of rows (i, j) with the columns (0, 1)
+
+
+def _minors(X):
+    """The 2×2 minors of ``X`` (n, 4, 2) on the row pairs :data:`_PAIRS`, (n, 6)."""
+    i, j = np.array(_PAIRS).T
+    return X[:, i, 0] * X[:, j, 1] - X[:, j, 0] * X[:, i, 1]
+
+
 def _amplitudes(track, right, left):
-    """Amplitudes ``a`` (right waves) and ``b`` (left waves) with ``right a - left b = f``."""
+    """Amplitudes ``a`` (right waves) and ``b`` (left waves) with ``right a - left b = f``.
+
+    Cramer's rule on ``M = [right, -left]``, each determinant by Laplace's expansion over the two
+    column blocks: ``det M = Σ_p σ_p R_p L_{5-p}`` (``R_p``, ``L_p`` the 2×2 minors of ``right``
+    and ``left`` on the row pairs ``p`` of :data:`_PAIRS`, ``σ_p`` their signs). ``f`` is ``f_r``
+    in the jump's row ``r`` alone, so with column ``c`` replaced by ``f`` only the pairs ``p(k) =
+    {r, k}`` keep a minor, ``±`` an entry of row ``k``:
+
+        a₀ = f_r Σ_k g_k right_k1 / det M,   a₁ = -f_r Σ_k g_k right_k0 / det M,   g_k = ε_k σ_p(k) L_{5-p(k)}
+        b₀ = -f_r Σ_k h_k left_k1 / det M,   b₁ = f_r Σ_k h_k left_k0 / det M,    h_k = ε_k σ_p(k) R_{5-p(k)}
+
+    (``ε_k = +1`` for ``r < k``, else ``-1``). Batched over frequency, no 4×4 solve per frequency."""
     row, unit = _jump_row(track)
-    M = np.concatenate([right, -left], axis=-1)
-    f = np.zeros(M.shape[:-1], dtype=complex)
-    f[:, row] = unit
-    c = np.linalg.solve(M, f[..., None])[..., 0]
-    return c[:, :2], c[:, 2:]
+    R, L = _minors(right), _minors(left)
+    others = [k for k in range(4) if k != row]
+    pair = np.array([_PAIRS.index((min(row, k), max(row, k))) for k in others])
+    sign = np.where(np.array(others) > row, 1.0, -1.0) * _PAIR_SIGNS[pair]
+    ratio = unit / np.sum(R * L[:, ::-1] * _PAIR_SIGNS, axis=-1)
+    g, h = L[:, 5 - pair] * sign, R[:, 5 - pair] * sign
+    rk, lk = right[:, others], left[:, others]
+    a = np.stack([np.sum(g * rk[..., 1], axis=-1), -np.sum(g * rk[..., 0], axis=-1)], axis=-1)
+    b = np.stack([-np.sum(h * lk[..., 1], axis=-1), np.sum(h * lk[..., 0], axis=-1)], axis=-1)
+    return a * ratio[:, None], b * ratio[:, None]
 
 
 def load_offset(track: Track, position) -> float:
@@ -328,8 +381,9 @@ _CELL: dict = {}  # the last track and frequencies' spans and waves: a map asks 
 
 
 def _cell(track: Track, omega):
-    """Free spans, sleeper jump ``S`` and its inverse, and the Floquet waves ``(λ, V₀)`` of
-    ``T₀ = S P(L)``, the cell that starts just past a sleeper, for ``track`` at ``omega``. The cell
+    """Free spans, sleeper jump ``S``, and the Floquet waves of ``T₀ = S P(L)``, the cell that
+    starts just past a sleeper, for ``track`` at ``omega``: ``λ`` and the :meth:`_Spans.powers` of
+    the right waves ``S⁻¹ V₀`` (at the sleeper, before it) and of the left waves ``V₀``. The cell
     that starts ``d`` past the sleeper, ``T = P(d) S P(L - d) = P(d) T₀ P(d)⁻¹``, has the same
     ``λ`` and the waves ``P(d) V₀ = λ P(d - L) S⁻¹ V₀``, so they are found once for every load
     position (and kept for the last track and frequencies)."""
@@ -338,8 +392,10 @@ def _cell(track: Track, omega):
         spans = _Spans(system_matrix(track, omega))
         ks = track.support.stiffness(omega) * np.ones_like(omega)
         S = _sleeper_jump(track, ks)
+        S_inverse = _sleeper_jump(track, -ks)
+        lam, waves = _waves(S @ spans.at(track.sleeper_spacing))
         _CELL.clear()
-        _CELL[key] = (spans, S, _sleeper_jump(track, -ks)) + _waves(S @ spans.at(track.sleeper_spacing))
+        _CELL[key] = (spans, S, lam, spans.powers(S_inverse @ waves[..., :2]), spans.powers(waves[..., 2:]))
     return _CELL[key]
 
 
@@ -347,22 +403,23 @@ def _discrete(track: Track, omega, d_load, x_resp) -> np.ndarray:
     """Discrete supports at spacing L: Floquet waves of the cell that starts at the load; (n_f, n_x)."""
     L = track.sleeper_spacing
     d = load_offset(track, d_load)
-    spans, S, S_inverse, lam, waves = _cell(track, omega)
+    spans, S, lam, right_waves, left_waves = _cell(track, omega)
     first = None  # the span from the load to the next sleeper, where a response lies past it
     # Each wave carried to the load the way it grows: the left waves on over d, the right waves
     # (decaying to the right) back over the sleeper and L - d; a wave's scale does not matter.
-    right = spans.at(d - L) @ S_inverse @ waves[..., :2]
-    left = spans.at(d) @ waves[..., 2:]
+    right = spans.apply(d - L, right_waves)
+    left = spans.apply(d, left_waves)
     a, b = _amplitudes(track, right, left)
     out = np.empty((omega.size, x_resp.size), dtype=complex)
     for j, x in enumerate(x_resp):
         s = x - d_load  # distance from the load
         n = int(np.floor(s / L + 1e-12))
         delta = max(s - n * L, 0.0)
-        if n >= 0:
-            start = np.einsum("fij,fj->fi", right, a * lam[:, :2] ** n)
-        else:
-            start = np.einsum("fij,fj->fi", left, b * lam[:, 2:] ** n)
+        waves, amplitude = (right, a * lam[:, :2] ** n) if n >= 0 else (left, b * lam[:, 2:] ** n)
+        if delta == 0.0:  # at the load's offset: the displacement of the waves there
+            out[:, j] = np.sum(waves[:, 0] * amplitude, axis=-1)
+            continue
+        start = np.einsum("fij,fj->fi", waves, amplitude)
         if delta <= L - d:
             C = spans.at(delta)
         else:

@@ -41,6 +41,12 @@ class EigSpans:
     def at(self, x):
         return eig_span(self.A, x)
 
+    def powers(self, X):
+        return (X,)
+
+    def apply(self, x, powers):
+        return self.at(x) @ powers[0]
+
 
 def eig_waves(T):
     lam, vecs = np.linalg.eig(T)
