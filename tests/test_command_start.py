@@ -45,9 +45,15 @@ def _imported(*args, cwd):
 def test_a_fourier_run_and_plot_leave_the_contact_geometry_and_plot_numba_unimported(tmp_path):
     """``railwear.geometry`` imports its contact geometry (numba, the contact package) on first use:
     the metro run reads only the out-of-roundness modules, and ``railwear plot`` compiles nothing,
-    so it does not import numba at all (0.15-0.3 s of its CPU)."""
+    so it does not import numba at all (0.15-0.3 s of its CPU). The metro run loads no compiled
+    kernel and imports only the dynamics, track and contact modules it uses."""
     run = _imported("run", "--no-figures", "-o", tmp_path, cwd=tmp_path)
     assert "railwear.geometry.roundness" in run and "railwear.geometry.contact_geometry" not in run
+    # the disk wheel's linearisation and steady creepage interpreted: no compiled kernel loaded (numba's
+    # registries, which import scipy.linalg), no scipy.optimize; the packages import what is used
+    assert "railwear.dynamics.disk_wheel" in run and "railwear.track.receptance" in run
+    assert not run & {"numba.np.arraymath", "scipy.linalg", "scipy.optimize", "railwear.dynamics.integration",
+                      "railwear.dynamics.wheelset", "railwear.track.modal", "railwear.contact.rolling"}
     plot = _imported("plot", tmp_path / "result.nc", cwd=tmp_path)
     assert "railwear.plots" in plot and (tmp_path / "spectrum.png").is_file()
     assert "numba" not in plot and "railwear.geometry.contact_geometry" not in plot

@@ -7,27 +7,37 @@
 
 from railwear import _numba_cache  # noqa: F401  (first: numba caches keyed on the sources)
 
-from railwear.contact.constants import contact_constants, creep_coefficients, shear_modulus
-from railwear.contact.creep_tables import CREEP_CURVE_POINTS, fastsim_creep_curve, fastsim_factor_table
-from railwear.contact.fastsim import (
+from railwear.contact.fastsim import (  # the function, not the module, as before
     FastsimBatchResult,
     FastsimResult,
     fastsim,
     fastsim_batch,
     flexibilities,
 )
-from railwear.contact.halfspace import HalfSpaceContact, HalfSpacePatch, halfspace_contact
-from railwear.contact.hertz import HertzContact, effective_modulus, hertz_contact, hertz_mnr
-from railwear.contact.kalker import LinearCreepForces, kalker_coefficients, linear_creep_forces
-from railwear.contact.rolling import RollingContact, rolling_contact
-from railwear.contact.saturation import (
-    POLACH_DRY,
-    POLACH_WET,
-    SaturatedForces,
-    inverse_cubic,
-    polach,
-    shen_hedrick_elkins,
-)
+
+
+def __getattr__(name):
+    """The other names imported from their modules on first use (PEP 562): a run that needs the
+    Hertz and Kalker constants does not import the exact rolling contact (compiled) or the
+    saturation laws with the package."""
+    if name in ("contact_constants", "creep_coefficients", "shear_modulus"):
+        from railwear.contact import constants as module
+    elif name in ("CREEP_CURVE_POINTS", "fastsim_creep_curve", "fastsim_factor_table"):
+        from railwear.contact import creep_tables as module
+    elif name in ("HalfSpaceContact", "HalfSpacePatch", "halfspace_contact"):
+        from railwear.contact import halfspace as module
+    elif name in ("HertzContact", "effective_modulus", "hertz_contact", "hertz_mnr"):
+        from railwear.contact import hertz as module
+    elif name in ("LinearCreepForces", "kalker_coefficients", "linear_creep_forces"):
+        from railwear.contact import kalker as module
+    elif name in ("RollingContact", "rolling_contact"):
+        from railwear.contact import rolling as module
+    elif name in ("POLACH_DRY", "POLACH_WET", "SaturatedForces", "inverse_cubic", "polach", "shen_hedrick_elkins"):
+        from railwear.contact import saturation as module
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(module, name)
+
 
 __all__ = [
     "CREEP_CURVE_POINTS",

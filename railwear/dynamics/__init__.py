@@ -21,20 +21,28 @@ The compiled functions' numba caches are keyed on their sources and the files th
 
 from railwear import _numba_cache  # noqa: F401  (first: numba caches keyed on the sources)
 
-from railwear.dynamics.integration import IntegrationResult, IntegrationStats, Integrator
-from railwear.dynamics.linear import critical_speed, linear_critical_speed, max_real_part, wheelset_state_matrix
-from railwear.dynamics.models import (
-    BogieModel,
-    CooperriderBogie,
-    DiskWheelModel,
-    TableBogieModel,
-    TableWheelsetModel,
-    WheelsetModel,
-    build_model,
-    contact_constants,
-)
-from railwear.dynamics.simulation import simulate
-from railwear.dynamics.bifurcation import RampDown, ramp_down
+
+def __getattr__(name):
+    """Each name imported from its module on first use (PEP 562): a run that builds one model
+    (the metro run's disk wheel) does not import the integrators, the other models or the
+    bifurcation code with the package."""
+    if name in ("IntegrationResult", "IntegrationStats", "Integrator"):
+        from railwear.dynamics import integration as module
+    elif name in ("critical_speed", "linear_critical_speed", "max_real_part", "wheelset_state_matrix"):
+        from railwear.dynamics import linear as module
+    elif name == "DiskWheelModel":
+        from railwear.dynamics import disk_wheel as module
+    elif name in ("BogieModel", "CooperriderBogie", "TableBogieModel", "TableWheelsetModel", "WheelsetModel",
+                  "build_model", "contact_constants"):
+        from railwear.dynamics import models as module
+    elif name == "simulate":
+        from railwear.dynamics import simulation as module
+    elif name in ("RampDown", "ramp_down"):
+        from railwear.dynamics import bifurcation as module
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(module, name)
+
 
 __all__ = [
     "BogieModel",

@@ -18,9 +18,20 @@ from railwear import _numba_cache  # noqa: F401  (first: numba caches keyed on t
 
 from railwear.track.model import (BASES, BEAMS, Rail, Support, SupportSet, Track, base_fields, default_support_set,
                                   rail, rail_names, support_of, support_set, support_set_names)
-from railwear.track.finite import finite_track_receptance
-from railwear.track.modal import ModalTrack, MovingLoadResult
-from railwear.track.receptance import load_offset, receptance
+from railwear.track.receptance import load_offset, receptance  # the function, not the module, as before
+
+
+def __getattr__(name):
+    """The finite and the time-domain track imported on first use (PEP 562): a frequency-domain
+    run does not import the modal track (compiled) with the package."""
+    if name == "finite_track_receptance":
+        from railwear.track import finite as module
+    elif name in ("ModalTrack", "MovingLoadResult"):
+        from railwear.track import modal as module
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(module, name)
+
 
 __all__ = [
     "BASES",
