@@ -2,10 +2,11 @@
 four figures, report.html) in a fresh process against the bare import of numpy, scipy, xarray and
 matplotlib, timed in turn in the same run; prints both and the ratio. A third process in the same
 turn, the third-party floor, imports what the command's own process needs from other packages for
-that run and nothing of railwear: numpy, xarray, typer, pydantic, numba, scipy.special (Carlson's
-integrals of the Hertz contact), scipy.optimize (``brentq``, the disk wheel's steady creepage),
-h5netcdf, and numba's first load from its cache (its typing and lowering registries, which import
-scipy.linalg for numba's BLAS check); matplotlib is left out, the drawers import it alongside.
+that run and nothing of railwear: numpy, xarray, typer, pydantic, numba (imported with railwear's
+compiled modules; the run calls no compiled kernel, so numba's registries and cache are not
+loaded), scipy.special (Carlson's integrals of the Hertz contact; scipy's array-API layer, which
+imports numpy.f2py and numpy.testing, comes with it) and h5netcdf; matplotlib is left out, the
+drawers import it alongside.
 
     python benchmarks/command.py [--rounds 5]
 
@@ -15,8 +16,8 @@ shared machine the wall time moves with the other jobs. The load average is prin
 
 Then, where the time goes: one fresh process does the command's steps in turn, in one process
 (no forked drawers), and prints each step's wall and CPU time: importing the command, railwear's
-API, the first run (the numba caches loaded, the modules the run imports on use), the same run
-again (the computation alone), result.nc and the summary, matplotlib's import, each figure drawn
+API, numba, scipy.special, the first run (the modules the run imports on use), the same run again
+(the computation alone), result.nc and the summary, matplotlib's import, each figure drawn
 and saved, the report.
 """
 
@@ -33,13 +34,10 @@ import time
 
 BARE = [sys.executable, "-c", "import numpy, scipy, xarray, matplotlib"]
 
-FIRST_LOAD = ("from numba.core.registry import cpu_target; "  # what numba does before loading a cached kernel
-              "cpu_target.typing_context.refresh(); cpu_target.target_context.refresh()")
-
 FLOOR = [sys.executable, "-c", "import gc, sys; gc.set_threshold(*gc.get_threshold()[:2], 1 << 30); "  # as the command
          "sys.modules['dask'] = None; "  # does (railwear.cli._full_collections, _hide_dask)
-         "import numpy, xarray, typer, pydantic, numba, scipy.special, scipy.optimize, h5netcdf; " + FIRST_LOAD
-         + "; import os; os._exit(0)"]  # no teardown, as the command (railwear.cli._exit)
+         "import numpy, xarray, typer, pydantic, numba, scipy.special, h5netcdf; "
+         "import os; os._exit(0)"]  # no teardown, as the command (railwear.cli._exit)
 
 
 STEPS = r"""
@@ -56,12 +54,11 @@ from railwear import api, report, results
 step("import railwear's API (scenario, pydantic, xarray)")
 import numba
 step("import numba")
-<FIRST_LOAD>
-step("numba's first load from its cache: its registries (scipy.linalg for its BLAS check)")
-import scipy.special, scipy.optimize
-step("import scipy.special, scipy.optimize (Hertz integrals, brentq)")
+import scipy.special
+step("import scipy.special (Hertz integrals; scipy's array-API layer, numpy.f2py)")
 ds = api.run("metro")
-step("first run: the rest (modules imported on use, the kernels loaded)")
+step("first run: the rest (modules imported on use; numba's registries "
+     + ("loaded" if "numba.np.arraymath" in sys.modules else "not loaded") + ")")
 ds = api.run("metro")
 step("the same run again: the computation alone")
 results.write_netcdf(ds, f"{out}/result.nc")
@@ -77,7 +74,7 @@ for name, make in plots.FIGURES.items():
 report.write_report(ds, f"{out}/{report.NAME}", paths, [], False)
 step("report.html")
 print(json.dumps(steps))
-""".replace("<FIRST_LOAD>", FIRST_LOAD)
+"""
 
 
 def railwear_run(directory):
