@@ -283,7 +283,7 @@ def spectrum(ds, diameter=None, limit=None):
             if d_wheel is not None:
                 levels[(i, k)] = _band_levels(ds, d, k, d_wheel)
             if rounds[(i, k)]:
-                ax.plot([], [], color=colour, ls=style, label=f"{label}, {when}: round (every order under 1 pm)")
+                ax.plot([], [], color=colour, ls=style, label=f"{label}, {when}: round (< 1 pm)")
                 continue
             a = amp[(i, k)][:top]
             shown = np.maximum(a, floors[i])
@@ -297,7 +297,13 @@ def spectrum(ds, diameter=None, limit=None):
     # figure's drawing); the axis spans at least 2.6 decades, so only the decades are labelled
     ax.yaxis.set_major_formatter(lambda v, _: f"{v:g}")
     ax.yaxis.set_minor_formatter(NullFormatter())
-    ax.set_ylim(floor / 1.6, peak * 2.5)
+    columns = 2 if per_wheel or len(rows) > 2 else 1
+    if per_wheel:  # headroom above the curves for the legend's rows (each 6.5 % of the axis)
+        entries = 3 * len(shaped) + 2 * (len(rows) - len(shaped)) + 1
+        room = min(0.065 * -(-entries // columns) + 0.03, 0.5)
+        ax.set_ylim(floor / 1.6, floor / 1.6 * (peak * 2.5 / (floor / 1.6)) ** (1 / (1 - room)))
+    else:
+        ax.set_ylim(floor / 1.6, peak * 2.5)
     if not per_wheel:
         ax.axhline(floor, color="0.6", lw=0.8, ls=":")
     ax.plot([], [], ls="none", marker="o", mfc="white", color="0.4",
@@ -306,7 +312,7 @@ def spectrum(ds, diameter=None, limit=None):
     ax.xaxis.get_major_locator().set_params(integer=True)
     ax.set(xlabel="polygon order n", ylabel="amplitude per order (µm)", xlim=(0.5, top + 0.5),
            title=_title(ds, "polygon spectrum at the start and the end"))
-    ax.legend(fontsize="small", ncol=2 if len(rows) > 2 else 1)
+    ax.legend(fontsize="small", ncol=columns, loc="upper right" if per_wheel else "best")
     if d_wheel is None:
         band_ax.text(0.5, 0.5, f"no band levels: {origin}", ha="center", va="center", transform=band_ax.transAxes)
         band_ax.set_axis_off()

@@ -162,8 +162,8 @@ def test_the_spectrum_draws_each_wheel_on_its_own_floor(bogie):
         assert len(floor) == 1 and floor[0].get_ydata()[0] == pytest.approx(largest / 100, rel=1e-12)
         end = np.asarray(lines[f"wheel at {where} m, end"].get_ydata(), float)
         assert end.min() == pytest.approx(largest / 100, rel=1e-12) and end.max() == pytest.approx(largest, rel=1e-12)
-    assert "wheel at 2.4 m, start: round (every order under 1 pm)" in lines
-    assert len(lines["wheel at 2.4 m, start: round (every order under 1 pm)"].get_xdata()) == 0
+    assert "wheel at 2.4 m, start: round (< 1 pm)" in lines
+    assert len(lines["wheel at 2.4 m, start: round (< 1 pm)"].get_xdata()) == 0
     assert ax.get_ylim()[0] == pytest.approx(trail / 100 / 1.6, rel=1e-9)
 
 
