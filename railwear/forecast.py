@@ -336,7 +336,9 @@ def _linear_runs(samples, u0, t_end, progress=None):
             progress((k + 1) / len(samples))
     speeds = [float(sample.operation.speeds) for sample in samples]
     time = runs[0][0]  # every run saves the same normed times; their float values differ in the last bit
-    u = np.stack([r[1] for r in runs])
+    u = np.empty((len(runs),) + runs[0][1].shape)
+    for k, (_, states) in enumerate(runs):
+        u[k] = states
     return xr.Dataset({"u": (("speed", "time", "angle"), u)},
                       coords={"speed": speeds, "time": time, "angle": 2 * np.pi * np.arange(u0.size) / u0.size})
 
@@ -404,8 +406,9 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
                     "solver.t_end" if horizon is None else horizon_field)
         ds = strategy.run(u0, t_end, progress=progress)
     life = scenario.operation.life_distance_km
-    dev = (ds.u - ds.u.mean("angle")).transpose("speed", "time", "angle")
-    ptp = (dev.max("angle") - dev.min("angle")).values
+    skip = not np.all(np.isfinite(ds.u.values))  # NaN-skipping reductions (slow) only where a NaN is
+    dev = (ds.u - ds.u.mean("angle", skipna=skip)).transpose("speed", "time", "angle")
+    ptp = (dev.max("angle", skipna=skip) - dev.min("angle", skipna=skip)).values
     excess, where = limit.excess(dev.values, diameter)
     times = ds.time.values
     if limit.kind == "peak_to_peak":
