@@ -105,3 +105,38 @@ def test_a_singular_shift_falls_back_on_eig(monkeypatch):
         m.setattr(module, "_CELL", {})
         fallback = receptance(track, F[::20], "midspan")
     assert np.max(np.abs(fallback / expected - 1)) < 1e-10
+
+
+@pytest.mark.parametrize("beam", ["euler", "timoshenko"])
+def test_spans_carry_waves_as_the_matrix_does(beam):
+    """``apply`` (a sum over the powers ``A^j X``) is ``P(x) X`` to round-off of ``P``'s scale, at
+    0 m exactly, and on the ``expm`` branch (roots forced close) too."""
+    track = Track(rail("60E1", loss_factor=0.02), SEAT, sleeper_spacing=0.6, beam=beam)
+    spans = _Spans(system_matrix(track, 2 * np.pi * F))
+    X = np.random.default_rng(3).standard_normal((F.size, 4, 2)) * (1 + 1j)
+    powers = spans.powers(X)
+    for x in (-0.6, -0.07, 1e-3, 0.3):
+        P = spans.at(x)
+        scale = np.max(np.abs(P), axis=(1, 2))[:, None, None] * np.max(np.abs(X), axis=(1, 2))[:, None, None]
+        assert np.max(np.abs(spans.apply(x, powers) - P @ X) / scale) < 1e-13, x
+    assert np.array_equal(spans.apply(0.0, powers), X)
+    spans.s2 = spans.s1 * (1 + 1e-8)  # every root pair "close": expm of A x carries X
+    assert np.max(np.abs(spans.apply(0.3, powers) - spans.at(0.3) @ X)) <= 1e-13 * np.max(np.abs(spans.at(0.3) @ X))
+
+
+def test_amplitudes_solve_the_jump_condition():
+    """Cramer's rule on the waves at the load gives ``right a - left b = f`` (the unit force's jump)
+    to round-off, against ``numpy.linalg.solve`` on the same matrices."""
+    for beam in ("euler", "timoshenko"):
+        track = Track(rail("60E1", loss_factor=0.02), SEAT, sleeper_spacing=0.6, beam=beam)
+        omega = 2 * np.pi * F
+        spans, _, _, right_waves, left_waves = module._cell(track, omega)
+        right, left = spans.apply(0.25 - 0.6, right_waves), spans.apply(0.25, left_waves)
+        a, b = module._amplitudes(track, right, left)
+        row, unit = module._jump_row(track)
+        M = np.concatenate([right, -left], axis=-1)
+        f = np.zeros((omega.size, 4), complex)
+        f[:, row] = unit
+        expected = np.linalg.solve(M, f[..., None])[..., 0]
+        got = np.concatenate([a, b], axis=1)
+        assert np.max(np.abs(got - expected) / np.max(np.abs(expected), axis=1, keepdims=True)) < 1e-11, beam
