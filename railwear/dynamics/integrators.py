@@ -382,13 +382,13 @@ def _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, 
     return True
 
 
-# ---- the dense output of the method, picked when the loop is typed ------------------------------
+# ---- the method's parts, picked when the loop is typed ------------------------------------------
 # ``integrate`` takes the method as a compile-time constant (as it does the model kind). numba
-# prunes no branch on the value of a constant integer argument, so every branch of the loop is
-# still typed; the dense output, which the loop calls for both explicit methods, is chosen here
-# when the loop is typed, so a DOPRI5 run does not compile DOP853's three extra stages. (Choosing
-# the Rosenbrock step the same way saved about 2 s of compile but made the Rosenbrock loop 20 %
-# slower, the step and Jacobian being the same compiled functions: left as it was.)
+# prunes no branch on the value of a constant integer argument, only on an argument that is None,
+# so the loop takes ``implicit`` (None for the explicit methods: their loop compiles no Rosenbrock
+# step or Jacobian), and the dense output, which the loop calls for both explicit methods, is
+# chosen here when the loop is typed, so a DOPRI5 run does not compile DOP853's three extra stages.
+# The Rosenbrock arrays stay allocated in the loop: taken from a tuple, that loop ran 15 % slower.
 
 
 def _by_method(method, impls):
@@ -423,6 +423,17 @@ def _rosenbrock_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
 def _explicit_dense_of(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
     return _by_method(method, {METHOD_DOPRI5: _dopri5_dense, METHOD_DOP853: _dop853_dense_counted,
                                METHOD_ROSENBROCK: _rosenbrock_dense})
+
+
+def _implicit(method):
+    """True for the implicit (Rosenbrock) method, None for an explicit one (compiled code only)."""
+    raise TypeError("_implicit is for compiled code")
+
+
+@overload(_implicit, inline="always", prefer_literal=True)
+def _implicit_of(method):
+    return _by_method(method, {METHOD_DOPRI5: lambda method: None, METHOD_DOP853: lambda method: None,
+                               METHOD_ROSENBROCK: lambda method: True})
 
 
 @njit(cache=True)
@@ -538,6 +549,18 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
     """
     literally(kind)
     literally(method)
+    return _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events,
+                 max_norm, energy, cut_at_switches, clock, _implicit(method))
+
+
+@njit(cache=True, nogil=True)
+def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events, max_norm,
+          energy, cut_at_switches, clock, implicit):
+    """The loop of ``_integrate``. ``implicit``: True for the Rosenbrock method, None for the
+    explicit ones, whose loop then compiles no Rosenbrock step or Jacobian (numba prunes a branch
+    on an argument that is None when the function is typed, never on a constant's value)."""
+    literally(kind)
+    literally(method)
     n = y0.shape[0]
     stats = np.zeros(5, dtype=np.int64)
     dense_mode = t_eval.shape[0] > 0
@@ -637,16 +660,7 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
             status = STATUS_STEP_TOO_SMALL
             break
         ok = True
-        if method == METHOD_DOPRI5:
-            _explicit_step(kind, p, surf, t, y, f0, h, _A, _C, 7, ynew, fnew, k, tmp)
-            _combine(_E, k, h, err)
-            stats[STAT_NFEV] += 6
-        elif method == METHOD_DOP853:
-            _explicit_step(kind, p, surf, t, y, f0, h, _D8_A, _D8_C, 13, ynew, fnew, k, tmp)
-            _combine(_D8_E5, k, h, err)
-            _combine(_D8_E3, k, h, k1)  # the third-order estimate
-            stats[STAT_NFEV] += 12
-        else:
+        if implicit is not None:
             if not jac_fresh:
                 _jacobian(kind, p, surf, t, y, f0, rtol, atol, jac, dfdt, tmp, f1)
                 stats[STAT_NFEV] += n + 1
@@ -654,6 +668,15 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
                 jac_fresh = True
             ok = _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, w, piv, k1, k2, tmp, f1)
             stats[STAT_NFEV] += 2
+        elif method == METHOD_DOPRI5:
+            _explicit_step(kind, p, surf, t, y, f0, h, _A, _C, 7, ynew, fnew, k, tmp)
+            _combine(_E, k, h, err)
+            stats[STAT_NFEV] += 6
+        else:
+            _explicit_step(kind, p, surf, t, y, f0, h, _D8_A, _D8_C, 13, ynew, fnew, k, tmp)
+            _combine(_D8_E5, k, h, err)
+            _combine(_D8_E3, k, h, k1)  # the third-order estimate
+            stats[STAT_NFEV] += 12
         if method == METHOD_DOP853 and not _all_finite(k1):  # k1 holds the third-order estimate
             ok = False
         if not ok or not _all_finite(ynew) or not _all_finite(err):
