@@ -417,7 +417,8 @@ def forecast(scenario: Scenario, angle, deviation, limit, horizon=None, n_save=2
         cross = np.array([crossing(times, e, 0.0) for e in excess]) * life
     at = [int(np.searchsorted(times * life, c)) if np.isfinite(c) else times.size - 1 for c in cross]
     at = np.minimum(at, times.size - 1)
-    orders = np.array([roundness.polygon_spectrum(dev.values[i, k])["dominant_order"] for i, k in enumerate(at)])
+    # polygon_spectrum's dominant order (the largest amplitude of orders 1 to N/2), all samples at once
+    orders = np.argmax(roundness.harmonic_amplitudes(dev.values[np.arange(len(at)), at])[:, 1:], axis=-1) + 1
     crossed = np.isfinite(cross)
     with np.errstate(invalid="ignore"):  # inf where more than that fraction never crosses
         q = np.quantile(cross, QUANTILES, method="inverted_cdf")
