@@ -317,19 +317,18 @@ class DiskWheelModel:
                           1e-4 * d0, 1e-4 * d0 * omega_c])
         du = 1e-4 * d0
 
-        def uniform(u):
-            dx = math.pi
-            return np.concatenate([[u, u, 0.0, u * dx, 2.0 * u * dx], self._creep_curve])
-
-        # the kernels' source interpreted: 36 calls, bit for bit the compiled ones' numbers
+        # the kernels' source interpreted: 36 calls, bit for bit the compiled ones' numbers; on lists
+        # of Python floats (the same double arithmetic, read faster than numpy's scalars)
         rhs, outputs = _interpreted(k.disk_wheel_rhs), _interpreted(k.disk_wheel_outputs)
+        p, curve = p.tolist(), self._creep_curve.tolist()
 
         def evaluate(y, u):
-            f, g = np.empty(n), np.empty(k.DW_N_OUTPUTS)
-            surf = uniform(u)
+            f, g = [0.0] * n, [0.0] * k.DW_N_OUTPUTS
+            surf = [u, u, 0.0, u * math.pi, 2.0 * u * math.pi] + curve  # a uniform u, its primitive, the curve
+            y = y.tolist()
             rhs(0.0, y, p, surf, f)
             outputs(0.0, y, p, surf, g)
-            return f, g[:4]
+            return np.array(f), np.array(g[:4])
 
         a, c = np.zeros((n, n)), np.zeros((4, n))
         for j in range(n):

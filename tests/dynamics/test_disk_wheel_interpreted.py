@@ -57,15 +57,20 @@ def test_steady_creepage_as_with_brentq(monkeypatch, creep_law):
 
 def _compiled(kernel):
     """The compiled ``kernel``; the disk wheel's right-hand side and outputs reached as the
-    integrators reach them (``rhs`` and ``outputs`` of its kind), with the interpreted form's
-    arguments."""
+    integrators reach them (``rhs`` and ``outputs`` of its kind, on float64 arrays), with the
+    interpreted form's arguments (lists of floats)."""
     if kernel is kernels.disk_wheel_rhs:
-        return lambda t, y, p, surf, dydt: kernels.rhs(kernels.KIND_DISK_WHEEL, t, y, p, surf, dydt)
+        def rhs(t, y, p, surf, dydt):
+            f = np.empty(len(dydt))
+            kernels.rhs(kernels.KIND_DISK_WHEEL, t, np.array(y), np.array(p), np.array(surf), f)
+            dydt[:] = f.tolist()
+        return rhs
     if kernel is not kernels.disk_wheel_outputs:
         return kernel
 
     def outputs(t, y, p, surf, out):
-        out[:] = kernels.outputs(kernels.KIND_DISK_WHEEL, np.full(1, t), y[None, :].copy(), p, surf, out.size)[0]
+        out[:] = kernels.outputs(kernels.KIND_DISK_WHEEL, np.full(1, t), np.array([y]), np.array(p), np.array(surf),
+                                 len(out))[0].tolist()
     return outputs
 
 
