@@ -36,8 +36,8 @@ from numba import literally, njit
 from numba.core import types
 from numba.extending import overload
 
-from railwear.dynamics.kernels import (ByLiteral, contact_power, event_inline, patch_half_angle, rhs_call, rhs_inline,
-                                       sweep, switching_inline)
+from railwear.dynamics.kernels import (ByLiteral, contact_power, event_call, patch_half_angle, rhs_call, rhs_inline, sweep,
+                                       switching_inline)
 
 METHOD_DOPRI5 = 0
 METHOD_ROSENBROCK = 1
@@ -475,7 +475,7 @@ def _locate_event(kind, p, surf, t, y, h, q, g_lo, g_hi, tmp, switch):
         if switch:
             g = switching_inline(kind, t + s * h, tmp, p, surf)
         else:
-            g = event_inline(kind, t + s * h, tmp, p, surf)
+            g = event_call(kind, t + s * h, tmp, p, surf)
         if (g > 0.0) == (g_hi > 0.0) and g != 0.0:
             s_hi, g_hi = s, g
             if side == 1:
@@ -640,7 +640,7 @@ def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps
         h = min(100.0 * h, h1)
     h = min(h, h_max, span)
 
-    g_old = event_inline(kind, t, y, p, surf) if use_events else 1.0
+    g_old = event_call(kind, t, y, p, surf) if use_events else 1.0
     status = STATUS_OK
     jac_fresh = False
     fac_max = 5.0
@@ -714,7 +714,7 @@ def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps
         hit = 0
         q_ready = method == METHOD_ROSENBROCK
         if use_events:
-            g_new = event_inline(kind, t_new, ynew, p, surf)
+            g_new = event_call(kind, t_new, ynew, p, surf)
             if (g_new > 0.0) != (g_old > 0.0) and g_new != 0.0:
                 if not q_ready:
                     stats[STAT_NFEV] += _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r)
@@ -727,7 +727,7 @@ def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps
                     rhs_call(kind, t_new, ynew, p, surf, fnew)
                     stats[STAT_NFEV] += 1
                     last = False
-                g_new = event_inline(kind, t_new, ynew, p, surf)
+                g_new = event_call(kind, t_new, ynew, p, surf)
             g_old = g_new
         bad = False
         for i in range(n):

@@ -1108,7 +1108,9 @@ def _event_inline(kind, t, y, p, surf):
 
 
 @njit(cache=True)
-def _event(kind, t, y, p, surf):
+def event_call(kind, t, y, p, surf):
+    """Event function of model ``kind`` (a plain call, from compiled code: the integrator's loop and
+    its event location share this one compiled copy)."""
     literally(kind)
     return event_inline(kind, t, y, p, surf)
 
@@ -1223,7 +1225,7 @@ class ByLiteral:
 
 
 rhs = ByLiteral(rhs_call, """Right-hand side of model ``kind`` into ``dydt``: ``rhs(kind, t, y, p, surf, dydt)``.""")
-event = ByLiteral(_event, """Event function of model ``kind`` (sign changes are events): ``event(kind, t, y, p,
+event = ByLiteral(event_call, """Event function of model ``kind`` (sign changes are events): ``event(kind, t, y, p,
 surf)``; 1 where a model has none.""")
 switching = ByLiteral(_switching, """Switching function of model ``kind`` (``switching_inline``): ``switching(kind,
 t, y, p, surf)``.""")
