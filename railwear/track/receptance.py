@@ -172,21 +172,24 @@ class _Spans:
 
     @staticmethod
     def _series(p, q, x):
-        """``(c₀, c₁, c₂, c₃)`` as power series in ``x`` (see the class)."""
-        c0, c1 = np.ones_like(p), np.full_like(p, x)
-        c2, c3 = np.zeros_like(p), np.zeros_like(p)
+        """``(c₀, c₁, c₂, c₃)`` as power series in ``x`` (see the class); the even and odd powers'
+        sums, ``(c₀, c₁)`` and ``(c₂, c₃)``, advance together."""
+        head = np.stack([np.ones_like(p), np.full_like(p, x)])  # c₀, c₁
+        tail = np.zeros((2,) + p.shape, dtype=p.dtype)  # c₂, c₃
+        minus_p = -p
         h_prev, h = np.zeros_like(p), np.ones_like(p)  # h_{n-2}, h_{n-1} at n = 1
         even, odd = 1.0, x  # x^{2n-2}/(2n-2)!, x^{2n-1}/(2n-1)!
+        powers = np.empty((2, 1))
         for n in range(1, SERIES_TERMS + 1):
             even = even * x * x / ((2 * n - 1) * (2 * n))
             odd = odd * x * x / ((2 * n) * (2 * n + 1))
-            c2 = c2 + h * even
-            c3 = c3 + h * odd
+            powers[:, 0] = even, odd
+            tail += h * powers
+            q_h = q * h_prev
             if n >= 2:
-                c0 = c0 - q * h_prev * even
-                c1 = c1 - q * h_prev * odd
-            h_prev, h = h, -p * h - q * h_prev
-        return c0, c1, c2, c3
+                head -= q_h * powers
+            h_prev, h = h, minus_p * h - q_h
+        return head[0], head[1], tail[0], tail[1]
 
 
 def _span(A: np.ndarray, length: float) -> np.ndarray:
