@@ -113,6 +113,10 @@ class _Spans:
         self.p = -0.5 * np.einsum("fii->f", self.A2)
         self.q = np.linalg.det(A)
         self.s1, self.s2 = _quadratic_roots(self.p, self.q)
+        # what the coefficients at every length share: |s₁| (the series' bound), the roots' gap, √s
+        self.size, self.gap = np.abs(self.s1), self.s1 - self.s2
+        self.near = np.abs(self.gap) < 1e-6 * self.size
+        self.r1, self.r2 = np.sqrt(self.s1), np.sqrt(self.s2)
 
     def at(self, length: float) -> np.ndarray:
         """``P(length)``, (n, 4, 4)."""
@@ -152,20 +156,18 @@ class _Spans:
     def _coefficients(self, x):
         """``(c, close)``: ``c₀ … c₃`` (4, n) at ``x`` ≠ 0 (see the class), and where the roots are
         too close for them (those need ``expm``)."""
-        s1, s2 = self.s1, self.s2
-        big = np.abs(s1) * x * x
-        series = big < SERIES
-        close = ~series & (np.abs(s1 - s2) < 1e-6 * np.abs(s1))
-        c = np.empty((4,) + s1.shape, dtype=complex)
+        series = self.size * x * x < SERIES
+        close = ~series & self.near
+        c = np.empty((4,) + self.s1.shape, dtype=complex)
         direct = ~series & ~close
         if np.any(direct):
-            a, b = s1[direct], s2[direct]
-            ra, rb = np.sqrt(a), np.sqrt(b)
+            every = bool(np.all(direct))
+            b, ra, rb, gap = ((v if every else v[direct]) for v in (self.s2, self.r1, self.r2, self.gap))
             Ca, Cb = np.cosh(ra * x), np.cosh(rb * x)
             Sa = np.sinh(ra * x) / ra
             Sb = np.where(rb == 0, x, np.sinh(rb * x) / np.where(rb == 0, 1.0, rb))
-            c2, c3 = (Ca - Cb) / (a - b), (Sa - Sb) / (a - b)
-            c[:, direct] = (Cb - b * c2, Sb - b * c3, c2, c3)
+            c2, c3 = (Ca - Cb) / gap, (Sa - Sb) / gap
+            c[:, slice(None) if every else direct] = (Cb - b * c2, Sb - b * c3, c2, c3)
         if np.any(series):
             c[:, series] = self._series(self.p[series], self.q[series], x)
         return c, close
@@ -376,7 +378,10 @@ def _balance(T, sweeps=3):
         column, row = B.sum(axis=1), B.sum(axis=2)
         ok = (column > 0) & (row > 0)
         ratio = np.where(ok, row, 1.0) / np.where(ok, column, 1.0)
-        d *= np.exp2(np.round(0.5 * np.log2(ratio)))
+        step = np.round(0.5 * np.log2(ratio))
+        if not step.any():  # balanced: a further sweep would find the same
+            break
+        d *= np.exp2(step)
     return d
 
 
