@@ -385,9 +385,10 @@ def _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, 
 # ---- the method's parts, picked when the loop is typed ------------------------------------------
 # ``integrate`` takes the method as a compile-time constant (as it does the model kind). numba
 # prunes no branch on the value of a constant integer argument, only on an argument that is None,
-# so the loop takes ``implicit`` (None for the explicit methods: their loop compiles no Rosenbrock
-# step or Jacobian), and the dense output, which the loop calls for both explicit methods, is
-# chosen here when the loop is typed, so a DOPRI5 run does not compile DOP853's three extra stages.
+# so the loop takes ``implicit`` and ``eighth`` (None unless the method is Rosenbrock's or DOP853:
+# a DOPRI5 loop compiles neither's step), and the dense output, which the loop calls for both
+# explicit methods, is chosen here when the loop is typed, so a DOPRI5 run does not compile
+# DOP853's three extra stages.
 # The Rosenbrock arrays stay allocated in the loop: taken from a tuple, that loop ran 15 % slower.
 
 
@@ -425,15 +426,19 @@ def _explicit_dense_of(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r):
                                METHOD_ROSENBROCK: _rosenbrock_dense})
 
 
-def _implicit(method):
-    """True for the implicit (Rosenbrock) method, None for an explicit one (compiled code only)."""
-    raise TypeError("_implicit is for compiled code")
+def _method_is(method, which):
+    """True where the constant ``method`` is ``which``, None otherwise: an argument of the loop on
+    which numba prunes the other methods' branches (compiled code only)."""
+    raise TypeError("_method_is is for compiled code")
 
 
-@overload(_implicit, inline="always", prefer_literal=True)
-def _implicit_of(method):
-    return _by_method(method, {METHOD_DOPRI5: lambda method: None, METHOD_DOP853: lambda method: None,
-                               METHOD_ROSENBROCK: lambda method: True})
+@overload(_method_is, inline="always", prefer_literal=True)
+def _method_is_of(method, which):
+    if not (isinstance(method, types.IntegerLiteral) and isinstance(which, types.IntegerLiteral)):
+        return None
+    if method.literal_value == which.literal_value:
+        return lambda method, which: True
+    return lambda method, which: None
 
 
 @njit(cache=True)
@@ -550,15 +555,17 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
     literally(kind)
     literally(method)
     return _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events,
-                 max_norm, energy, cut_at_switches, clock, _implicit(method))
+                 max_norm, energy, cut_at_switches, clock, _method_is(method, METHOD_ROSENBROCK),
+                 _method_is(method, METHOD_DOP853))
 
 
 @njit(cache=True, nogil=True)
 def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events, max_norm,
-          energy, cut_at_switches, clock, implicit):
-    """The loop of ``_integrate``. ``implicit``: True for the Rosenbrock method, None for the
-    explicit ones, whose loop then compiles no Rosenbrock step or Jacobian (numba prunes a branch
-    on an argument that is None when the function is typed, never on a constant's value)."""
+          energy, cut_at_switches, clock, implicit, eighth):
+    """The loop of ``_integrate``. ``implicit``: True for the Rosenbrock method, else None;
+    ``eighth``: True for DOP853, else None. numba prunes a branch on an argument that is None when
+    the function is typed (never on a constant's value), so a DOPRI5 loop compiles neither the
+    Rosenbrock step and Jacobian nor DOP853's stages and error measure."""
     literally(kind)
     literally(method)
     n = y0.shape[0]
@@ -668,23 +675,23 @@ def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps
                 jac_fresh = True
             ok = _rosenbrock_step(kind, p, surf, t, y, f0, h, ynew, fnew, err, q, jac, dfdt, w, piv, k1, k2, tmp, f1)
             stats[STAT_NFEV] += 2
-        elif method == METHOD_DOPRI5:
-            _explicit_step(kind, p, surf, t, y, f0, h, _A, _C, 7, ynew, fnew, k, tmp)
-            _combine(_E, k, h, err)
-            stats[STAT_NFEV] += 6
-        else:
+        elif eighth is not None:
             _explicit_step(kind, p, surf, t, y, f0, h, _D8_A, _D8_C, 13, ynew, fnew, k, tmp)
             _combine(_D8_E5, k, h, err)
             _combine(_D8_E3, k, h, k1)  # the third-order estimate
             stats[STAT_NFEV] += 12
-        if method == METHOD_DOP853 and not _all_finite(k1):  # k1 holds the third-order estimate
-            ok = False
+            if not _all_finite(k1):
+                ok = False
+        else:
+            _explicit_step(kind, p, surf, t, y, f0, h, _A, _C, 7, ynew, fnew, k, tmp)
+            _combine(_E, k, h, err)
+            stats[STAT_NFEV] += 6
         if not ok or not _all_finite(ynew) or not _all_finite(err):
             stats[STAT_NREJECT] += 1
             h *= 0.25
             fac_max = 1.0
             continue
-        if method == METHOD_DOP853:
+        if eighth is not None:
             en = _dop853_error_norm(err, k1, y, ynew, rtol, atol)
         else:
             en = _error_norm(err, y, ynew, rtol, atol)
