@@ -326,7 +326,9 @@ def wheelset_outputs(t, y, p, surf, out):
 
 # ---- wheelset on real profiles --------------------------------------------------------------
 # The table helpers read the TW_* parameters at offset ``o`` in ``p`` (0 for the table wheelset,
-# BG_N_PARAMS for the table bogie, whose wheelsets share one table).
+# BG_N_PARAMS for the table bogie, whose wheelsets share one table). The node of the table is
+# found once per evaluation and handed down: each inlined call of a helper is compiled again,
+# and LLVM did not merge the repeated look-ups either.
 @njit(cache=True, inline="always")
 def _table_node(p, o, lateral):
     """``(n, j, w)``: the table's points, the node below ``lateral`` and the weight of the node above
@@ -342,35 +344,35 @@ def _table_node(p, o, lateral):
 
 
 @njit(cache=True, inline="always")
-def _table_value(surf, p, o, side, field, lateral):
+def _table_value(surf, n, j, w, side, field):
     """Linear interpolation of table column ``field`` of wheel ``side`` (0 left, 1 right) at the
-    lateral displacement ``lateral``, clamped to the table's range."""
-    n, j, w = _table_node(p, o, lateral)
+    node ``(j, w)`` of ``_table_node``."""
     base = (side * TW_N_FIELDS + field) * n
     return (1.0 - w) * surf[base + j] + w * surf[base + j + 1]
 
 
 @njit(cache=True, inline="always")
-def _table_wheel(side, lat, yaw, vlat, vyaw, p, o, surf, ratio):
-    """Creep of one wheel from the contact table: returns ``(xi, eta, phi, Fx, Feta, Mz, power, N,
-    delta)``. ``ratio = (r_R - r_L) / (r_L + r_R)`` (quasi-static axle spin ``2 V / (r_L + r_R)``).
-    Creepages in the contact plane: ``xi = -+ratio -+ e psi'/V`` (upper sign left),
-    ``eta = (y'/V - psi) / cos(delta)``, ``phi = psi' cos(delta) / V -+ sin(delta) / r``."""
+def _table_wheel(side, yaw, vlat, vyaw, p, o, surf, n, j, w, ratio):
+    """Creep of one wheel from the contact table at the node ``(j, w)`` of ``_table_node``: returns
+    ``(xi, eta, phi, Fx, Feta, Mz, power, N, delta)``. ``ratio = (r_R - r_L) / (r_L + r_R)``
+    (quasi-static axle spin ``2 V / (r_L + r_R)``). Creepages in the contact plane:
+    ``xi = -+ratio -+ e psi'/V`` (upper sign left), ``eta = (y'/V - psi) / cos(delta)``,
+    ``phi = psi' cos(delta) / V -+ sin(delta) / r``."""
     v = p[o + TW_SPEED]
     sign = 1.0 - 2.0 * side
-    radius = _table_value(surf, p, o, side, 0, lat)
-    delta = _table_value(surf, p, o, side, 1, lat)
-    normal = _table_value(surf, p, o, side, 2, lat)
+    radius = _table_value(surf, n, j, w, side, 0)
+    delta = _table_value(surf, n, j, w, side, 1)
+    normal = _table_value(surf, n, j, w, side, 2)
     scale = p[o + TW_CREEP_SCALE]
     cosd = math.cos(delta)
     sind = math.sin(delta)
     xi = sign * (ratio - p[o + TW_HALF_GAUGE] * vyaw / v)
     eta = (vlat / v - yaw) / cosd
     phi = vyaw * cosd / v - sign * sind / radius
-    f23 = scale * _table_value(surf, p, o, side, 5, lat)
-    fx = -scale * _table_value(surf, p, o, side, 3, lat) * xi
-    fy = -scale * _table_value(surf, p, o, side, 4, lat) * eta - f23 * phi
-    mz = f23 * eta - scale * _table_value(surf, p, o, side, 6, lat) * phi
+    f23 = scale * _table_value(surf, n, j, w, side, 5)
+    fx = -scale * _table_value(surf, n, j, w, side, 3) * xi
+    fy = -scale * _table_value(surf, n, j, w, side, 4) * eta - f23 * phi
+    mz = f23 * eta - scale * _table_value(surf, n, j, w, side, 6) * phi
     s = saturation_factor(math.sqrt(fx * fx + fy * fy), p[o + TW_FRICTION] * normal)
     fx *= s
     fy *= s
@@ -494,10 +496,10 @@ def _strip_point(side, point, xi, eta, phi, spin_geo, radius, r_wheel, radii, no
 
 
 @njit(cache=True, inline="always")
-def _radius_ratio(surf, p, o, lat):
-    """``(r_R - r_L) / (r_L + r_R)`` and ``r_L + r_R`` at ``lat``."""
-    r_left = _table_value(surf, p, o, 0, 0, lat)
-    r_right = _table_value(surf, p, o, 1, 0, lat)
+def _radius_ratio(surf, n, j, w):
+    """``(r_R - r_L) / (r_L + r_R)`` and ``r_L + r_R`` at the node ``(j, w)`` of ``_table_node``."""
+    r_left = _table_value(surf, n, j, w, 0, 0)
+    r_right = _table_value(surf, n, j, w, 1, 0)
     return (r_right - r_left) / (r_left + r_right), r_left + r_right
 
 
@@ -508,9 +510,9 @@ def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
     ``TW_N_CONTACTS = 0`` each wheel's resultant contact (``_table_wheel``), else each of its
     contacts on its own (``_table_point``), their forces summed in the order of the contacts (one
     loaded contact per wheel gives the resultant's numbers to the bit)."""
-    ratio, radii = _radius_ratio(surf, p, o, lat)
-    contacts = int(p[o + TW_N_CONTACTS])
     n, j, w = _table_node(p, o, lat)
+    ratio, radii = _radius_ratio(surf, n, j, w)
+    contacts = int(p[o + TW_N_CONTACTS])
     force = 0.0
     moment = 0.0
     normal_lateral = 0.0
@@ -519,7 +521,7 @@ def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
     for side in range(2):
         sign = 1.0 - 2.0 * side
         if contacts == 0:
-            _, _, _, fx, fy, mz, power, normal, delta = _table_wheel(side, lat, yaw, vlat, vyaw, p, o, surf, ratio)
+            _, _, _, fx, fy, mz, power, normal, delta = _table_wheel(side, yaw, vlat, vyaw, p, o, surf, n, j, w, ratio)
             cosd = math.cos(delta)
             # the normal force leans towards the track centre by the contact angle
             normal_lateral -= sign * normal * math.sin(delta)
@@ -527,7 +529,7 @@ def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
             moment += mz * cosd - sign * p[o + TW_HALF_GAUGE] * fx
         else:
             power = 0.0
-            r_wheel = _table_value(surf, p, o, side, 0, lat)
+            r_wheel = _table_value(surf, n, j, w, side, 0)
             for point in range(contacts):
                 _, _, _, fx, fy, mz, pw, normal, delta, _, lever = _table_point(side, point, yaw, vlat, vyaw, p, o,
                                                                                 surf, n, j, w, contacts, ratio,
@@ -573,15 +575,15 @@ def table_wheelset_outputs(t, y, p, surf, out):
     several contacts per wheel (``TW_N_CONTACTS > 0``) ``Fx, Feta, Mz, power`` are the sums over
     the wheel's contacts (``_table_point``); the creepages, ``N`` and the position stay the
     resultant's (the table's per-wheel columns)."""
-    ratio, radii = _radius_ratio(surf, p, 0, y[0])
-    contacts = int(p[TW_N_CONTACTS])
     n, j, w = _table_node(p, 0, y[0])
+    ratio, radii = _radius_ratio(surf, n, j, w)
+    contacts = int(p[TW_N_CONTACTS])
     for side in range(2):
-        vals = _table_wheel(side, y[0], y[1], y[2], y[3], p, 0, surf, ratio)
+        vals = _table_wheel(side, y[1], y[2], y[3], p, 0, surf, n, j, w, ratio)
         for k in range(8):
             out[8 * side + k] = vals[k]
         if contacts > 0:
-            r_wheel = _table_value(surf, p, 0, side, 0, y[0])
+            r_wheel = _table_value(surf, n, j, w, side, 0)
             for k in range(3, 7):
                 out[8 * side + k] = 0.0
             for point in range(contacts):
@@ -591,8 +593,8 @@ def table_wheelset_outputs(t, y, p, surf, out):
                     for k in range(3, 7):
                         out[8 * side + k] += pv[k]
     out[16] = -ratio * radii
-    out[17] = _table_value(surf, p, 0, 0, 7, y[0])
-    out[18] = _table_value(surf, p, 0, 1, 7, y[0])
+    out[17] = _table_value(surf, n, j, w, 0, 7)
+    out[18] = _table_value(surf, n, j, w, 1, 7)
     out[19] = (2.0 * p[TW_SPEED] * t / radii) % TWO_PI
 
 
@@ -610,10 +612,10 @@ def table_point_rows(ys, p, o, surf, columns, strip_power=None):
     res = np.zeros((ys.shape[0], 2 * contacts * TW_N_POINT_OUTPUTS))
     for i in range(ys.shape[0]):
         lat = ys[i, columns[0]]
-        ratio, radii = _radius_ratio(surf, p, o, lat)
         n, j, w = _table_node(p, o, lat)
+        ratio, radii = _radius_ratio(surf, n, j, w)
         for side in range(2):
-            r_wheel = _table_value(surf, p, o, side, 0, lat)
+            r_wheel = _table_value(surf, n, j, w, side, 0)
             for point in range(contacts):
                 if strip_power is None:
                     pv = _table_point(side, point, ys[i, columns[1]], ys[i, columns[2]], ys[i, columns[3]], p, o, surf,
