@@ -128,15 +128,16 @@ class Harmonics:
     def run(self, u0, duration, n_save=101, depth_limit=None, peak_to_peak_limit=None):
         """``u(x, t)`` (m) from ``u0`` over ``duration`` seconds of running, stopping where the
         most worn spot has lost ``depth_limit`` (m) or the wheel is ``peak_to_peak_limit`` (m) out
-        of round, found by bisection on the exact solution. A state that is not finite (a harmonic
+        of round, found by bisection on the exact solution from the saved interval that passes it (the
+        first saved state is ``u0`` itself); a start at or past ``peak_to_peak_limit`` is refused
+        (:class:`ScenarioError`: reached at 0 km). A state that is not finite (a harmonic
         overflowed before a limit stopped the run, or a rate is not finite) raises
         :class:`NumericalInstabilityError` with the last finite saved state and its time (s)."""
         if not duration > 0:
             raise ScenarioError("duration must be > 0 (s)")
         u0 = np.asarray(u0, float)
-        if peak_to_peak_limit is not None and _out_of_round(u0[None])[0] >= peak_to_peak_limit:
-            raise ScenarioError(f"solver.peak_to_peak_limit_mm: the wheel starts {_out_of_round(u0[None])[0] / MM:.4g} "
-                                f"mm out of round, above the limit {peak_to_peak_limit / MM:.4g} mm")
+        if peak_to_peak_limit is not None:
+            self._check_start(u0, peak_to_peak_limit)
         limited = depth_limit is not None or peak_to_peak_limit is not None
 
         def reached(u):
@@ -153,9 +154,12 @@ class Harmonics:
 
         t = np.linspace(0.0, duration, n_save)
         u = self.evolve(u0, t)
+        # The start is u0 itself, checked under the limit above: irfft(rfft(u0)) may differ from it by
+        # round-off and put a start within round-off of the limit past it, leaving no bracket start.
+        u[0] = u0
         stop = duration
         past = np.flatnonzero(reached(u))
-        if past.size:
+        if past.size:  # past[0] >= 1: the crossing lies in (t[past[0] - 1], t[past[0]]]
             lo, hi = t[past[0] - 1], t[past[0]]
             for _ in range(60):
                 mid = 0.5 * (lo + hi)
@@ -179,6 +183,22 @@ class Harmonics:
                     "order": ("order", orders, {"units": "1", "long_name": "polygon order"})},
             attrs={"strategy": "Fourier technique for linear dynamics (Brommundt)", "stop_seconds": stop},
         )
+
+    def _check_start(self, u0, limit):
+        """Refuse a start ``u0`` (m; a row per wheel with several) at or past the peak-to-peak
+        ``limit`` (m), the run's stop at 0 km, in one line naming the field, the wheel and by how
+        much (a start within round-off of the limit prints as the limit at 4 digits)."""
+        each = np.ptp(u0, axis=-1).reshape(-1)
+        k = int(np.argmax(each))
+        excess = each[k] - limit
+        if excess < 0:
+            return
+        positions = getattr(self, "positions", None)
+        wheel = f"the wheel at {positions[k]:g} m" if u0.ndim == 2 and positions is not None else "the wheel"
+        where = "at the limit" if excess == 0 else "above the limit"
+        by = "" if excess == 0 else f" by {excess / MM:.3g} mm"
+        raise ScenarioError(f"solver.peak_to_peak_limit_mm: {wheel} starts {each[k] / MM:.4g} mm out of round, "
+                            f"{where} {limit / MM:.4g} mm{by}: the limit is reached at 0 km, before the run starts")
 
     def _check_finite(self, u, t, lam, orders):
         """Raise :class:`NumericalInstabilityError` at the first saved state ``u`` (m) at times
