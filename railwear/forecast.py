@@ -345,20 +345,23 @@ def _linear_runs(samples, u0, t_end, progress=None):
 
 def _states(strategy, u0, until):
     """``(time, u)``: the normed times and ``u`` (m, over time and angle) of ``strategy.run(u0,
-    until)``, the states alone. The Fourier technique without a limit (a forecast's samples) is
-    its exact solution at the run's saved times, ``n_save`` seconds from 0 to ``until`` lives at
-    its speed, without the result's Dataset and spectra (:func:`railwear.longterm.spectra.describe`,
-    most of a sample's cost); a state that is not finite is left to ``run`` to report."""
+    until)``, the states alone. For the Fourier technique without a limit (a forecast's samples)
+    they are its exact solution (:meth:`~railwear.longterm.fourier.Harmonics.run`) over ``until``
+    lives at its speed, without the strategy's result around it (the spectra of
+    :func:`railwear.longterm.spectra.describe`, most of a sample's cost); a state that is not
+    finite is left to ``run`` to report in normed time."""
+    from railwear.errors import NumericalInstabilityError
     from railwear.longterm.base import checked_start
     from railwear.longterm.fourier import Fourier, FourierCycle, FourierStrategy
 
     if (isinstance(strategy, FourierStrategy) and type(strategy.fourier) in (Fourier, FourierCycle)
             and strategy.peak_to_peak_limit is None):
         speed, life = strategy.fourier.speed, strategy.life_distance
-        seconds = np.linspace(0.0, until * life / speed, strategy.n_save)
-        u = strategy.fourier.evolve(checked_start(u0, until, None), seconds)
-        if np.all(np.isfinite(u)):
-            return seconds * speed / life, u
+        try:
+            ds = strategy.fourier.run(checked_start(u0, until, None), until * life / speed, strategy.n_save)
+            return ds.time.values * speed / life, ds.u.transpose("time", "angle").values
+        except NumericalInstabilityError:
+            pass
     u = strategy.run(u0, until=until).u
     return u.time.values, u.transpose("time", "angle").values
 
