@@ -288,6 +288,8 @@ def growth_note(d, n):
     its standard error is as large as the rate itself."""
     start = d.amplitude_initial.values
     a0 = float(d.amplitude_initial.sel(order=n))
+    if a0 == 0 and "regime" in d and str(d.regime.values) == regime.DRIVEN:
+        return f"not meaningful: order {n} started at 0 m on this wheel, {regime.DRIVEN} through the rail"
     if not a0 >= ROUND_OFF_SHARE * float(start.max()) or a0 == 0:
         return (f"not meaningful: order {n} grew from round-off ({a0:.2g} m at the start, under "
                 f"{_short(ROUND_OFF_SHARE)} of the largest amplitude then), so its fitted rate is not the wheel's")
@@ -436,7 +438,9 @@ def run_lines(r):
     else:
         n = r["dominant_order"]
         shape = f"{plural(r['maxima'], 'maximum', 'maxima')}, dominant order {n}" + (" (eccentricity)" if n == 1 else "")
-    if r.get("round_at_start"):
+    if r.get("round_at_start") and r["regime"] == regime.DRIVEN:
+        growth = "round at the start: its out-of-round came through the rail from the other wheels"
+    elif r.get("round_at_start"):
         growth = "round at the start: out-of-round growth undefined, nothing to grow"
     else:
         rms = (f"x{r['out_of_round_growth_factor']:.2f}" if "out_of_round_growth_factor" in r else "growth undefined")

@@ -25,8 +25,11 @@ REGIME_RULE = (
     "(at least 1 % of its largest amplitude then), grows at least 10 % per 10 000 km, or the out-of-round "
     "rms grows at least 50 % per 10 000 km; smoothing when the rms falls at least 20 % per 10 000 km; "
     "onset when an order the wheel had at the start, or the rms, grows at least 1 % per 10 000 km; else "
-    "stable (a round wheel too). A rate counts only beyond 2 standard errors")
-LONG_NAME = "wear regime of the wheel (stable, smoothing, onset, polygonalising)"
+    "stable (a round wheel too). A rate counts only beyond 2 standard errors. With several wheels on one rail, "
+    "a wheel round at the start (under 1 pm peak to peak) and not at the end, while another wheel started out of "
+    "round, is driven by the other wheels: its out-of-round came to it through the rail")
+DRIVEN = "driven by the other wheels"  # the label of such a wheel: no order of its own to read a growth from
+LONG_NAME = f"wear regime of the wheel (stable, smoothing, onset, polygonalising; {DRIVEN})"
 
 
 def is_round(peak_to_peak):
@@ -34,9 +37,10 @@ def is_round(peak_to_peak):
     return bool(peak_to_peak < ROUND_PEAK_TO_PEAK)
 
 
-def wheel_regime(d, life):
+def wheel_regime(d, life, others_shaped=False):
     """The regime of the run ``d`` (one row of a long-term result, described by
-    ``longterm.spectra.describe``) by :data:`REGIME_RULE`, the normed life being ``life`` km."""
+    ``longterm.spectra.describe``) by :data:`REGIME_RULE`, the normed life being ``life`` km;
+    ``others_shaped``: another wheel on the same rail started out of round (several wheels)."""
     per = PER_10000_KM / life
     rate = np.asarray(d.growth_rate.values, float) * per
     error = np.asarray(d.growth_rate_error.values, float) * per
@@ -47,8 +51,11 @@ def wheel_regime(d, life):
     rms = float(d.out_of_round_growth_rate) * per
     rms_error = float(d.out_of_round_growth_rate_error) * per
     rms_counts = np.isfinite(rms) and abs(rms) > SIGNIFICANT * (rms_error if np.isfinite(rms_error) else 0.0)
-    if is_round(float(d.peak_to_peak)) and is_round(float(d.peak_to_peak_initial)):
-        return "stable"
+    if is_round(float(d.peak_to_peak_initial)):
+        if is_round(float(d.peak_to_peak)):
+            return "stable"
+        if others_shaped:
+            return DRIVEN
     k = int(d.dominant_order) - 1
     if not is_round(float(d.peak_to_peak)) and seeded[k] and counts[k] and rate[k] >= np.log1p(POLYGON_ORDER_GROWTH):
         return "polygonalising"
@@ -74,6 +81,15 @@ def life_km(ds):
     return None
 
 
+def others_shaped(ds):
+    """Per row of ``ds`` (over its batch): whether another wheel on its rail (along ``wheel``)
+    started out of round (``peak_to_peak_initial`` not :func:`is_round`); False without several wheels."""
+    shaped = ds.peak_to_peak_initial >= ROUND_PEAK_TO_PEAK
+    if ds.sizes.get("wheel", 1) < 2 or "wheel" not in shaped.dims:
+        return shaped & False
+    return shaped.sum("wheel") - shaped > 0
+
+
 def with_wheel_regime(ds, life=None):
     """``ds`` with ``regime`` (over its batch) by :func:`wheel_regime` and its ``rule`` attribute,
     where it has the growth rates and a normed life (``life`` km, else :func:`life_km`);
@@ -83,7 +99,8 @@ def with_wheel_regime(ds, life=None):
         return ds
     batch = [d for d in ds.dominant_order.dims]
     shape = [ds.sizes[d] for d in batch]
-    labels = np.array([wheel_regime(ds.isel(dict(zip(batch, index))), life) for index in np.ndindex(*shape)],
-                      dtype=str).reshape(shape)
+    others = others_shaped(ds).transpose(*batch).values
+    labels = np.array([wheel_regime(ds.isel(dict(zip(batch, index))), life, bool(others[index]))
+                       for index in np.ndindex(*shape)], dtype=str).reshape(shape)
     ds["regime"] = (tuple(batch), labels, {"long_name": LONG_NAME, "rule": REGIME_RULE})
     return ds
