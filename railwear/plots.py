@@ -691,7 +691,7 @@ class Drawers:
 
 
 REGIME_COLOURS = {"stable": "#4daf4a", "smoothing": "#377eb8", "onset": "#ff7f00",
-                  "polygonalising": "#e41a1c", "failed": "#999999"}
+                  "polygonalising": "#e41a1c", "driven by the other wheels": "#984ea3", "failed": "#999999"}
 
 
 FLAT = 1e-9  # a relative spread below this is round-off: the quantity is drawn flat, with ticks
