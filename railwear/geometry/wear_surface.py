@@ -69,8 +69,9 @@ def deposit_rectangles(depth, circumference, lateral_lo, lateral_width, x_lo, x_
     for r in range(x_lo.size):
         if volume[r] == 0.0:
             continue
-        nx = _overlaps(x_lo[r], x_hi[r], 0.0, dx, n_angle, True, xs, fx)
-        ns = _overlaps(s_lo[r], s_hi[r], lateral_lo, lateral_width, n_lateral, False, ss, fs)
+        # the flags as runtime booleans: literals would type (and compile) _overlaps once per value
+        nx = _overlaps(x_lo[r], x_hi[r], 0.0, dx, n_angle, np.bool_(True), xs, fx)
+        ns = _overlaps(s_lo[r], s_hi[r], lateral_lo, lateral_width, n_lateral, np.bool_(False), ss, fs)
         for i in range(nx):
             for k in range(ns):
                 share = volume[r] * fx[i] * fs[k]
