@@ -4,6 +4,8 @@ Bad input of every kind is a :class:`ScenarioError` (exit status 2 from the comm
 line); its subclasses say which kind of input it was.
 """
 
+from railwear.units import MM
+
 
 class RailwearError(Exception):
     """Base of every error railwear raises on purpose."""
@@ -14,6 +16,18 @@ class ScenarioError(RailwearError, ValueError):
 
     The message is one line and names the field.
     """
+
+
+def start_past_limit(field, out_of_round, limit, wheel="the wheel"):
+    """The refusal of a start ``out_of_round`` (m, peak to peak) at or past the peak-to-peak
+    ``limit`` (m), the run's stop at 0 km: one line naming ``field``, ``wheel`` and the excess
+    ``out_of_round - limit`` (mm; a start within round-off of the limit prints as the limit at 4
+    digits, the excess says it is over)."""
+    excess = out_of_round - limit
+    where = "at the limit" if excess == 0 else "above the limit"
+    by = "" if excess == 0 else f" by {excess / MM:.3g} mm"
+    return ScenarioError(f"{field}: {wheel} starts {out_of_round / MM:.4g} mm out of round, {where} {limit / MM:.4g} "
+                         f"mm{by}: the limit is reached at 0 km, before the run starts")
 
 
 class MeasuredFileError(ScenarioError):

@@ -20,10 +20,10 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from railwear.errors import NumericalInstabilityError, ScenarioError
+from railwear.errors import NumericalInstabilityError, ScenarioError, start_past_limit
 from railwear.longterm.base import Strategy, checked_start, stop_time, time_coordinates
 from railwear.longterm.spectra import describe
-from railwear.units import KM, MM
+from railwear.units import KM
 from railwear.wear import ContactSample, WearLaw
 
 
@@ -195,10 +195,7 @@ class Harmonics:
             return
         positions = getattr(self, "positions", None)
         wheel = f"the wheel at {positions[k]:g} m" if u0.ndim == 2 and positions is not None else "the wheel"
-        where = "at the limit" if excess == 0 else "above the limit"
-        by = "" if excess == 0 else f" by {excess / MM:.3g} mm"
-        raise ScenarioError(f"solver.peak_to_peak_limit_mm: {wheel} starts {each[k] / MM:.4g} mm out of round, "
-                            f"{where} {limit / MM:.4g} mm{by}: the limit is reached at 0 km, before the run starts")
+        raise start_past_limit("solver.peak_to_peak_limit_mm", each[k], limit, wheel)
 
     def _check_finite(self, u, t, lam, orders):
         """Raise :class:`NumericalInstabilityError` at the first saved state ``u`` (m) at times

@@ -34,13 +34,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from railwear.contact.saturation import inverse_cubic
-from railwear.errors import ScenarioError
+from railwear.errors import ScenarioError, start_past_limit
 from railwear.longterm.base import Strategy, checked_start
 from railwear.longterm.fourier import Fourier, FourierCycle, contact_filter
 from railwear.longterm.phenomenological import finish, solver_checkpoints
 from railwear.pde import BuiltinRate, Cubic, Pointwise
 from railwear.pde.multiplier import Fixed, Remainder, solve_multiplier
-from railwear.units import MM
 from railwear.wear import ContactSample
 
 LOAD_TABLE_RANGE = 1.5  # the table of D spans W (1 ± this) in load
@@ -214,8 +213,7 @@ class Multiplier(Strategy, name="multiplier"):
             raise ScenarioError("u0 must have an even number >= 8 of angles")
         limit = self.peak_to_peak_limit
         if limit is not None and np.ptp(u0) >= limit:
-            raise ScenarioError(f"solver.peak_to_peak_limit_mm: the wheel starts {np.ptp(u0) / MM:.4g} mm out of "
-                                f"round, above the limit {limit / MM:.4g} mm")
+            raise start_past_limit("solver.peak_to_peak_limit_mm", np.ptp(u0), limit)
         rate, a, b, g = self.multipliers(u0.size)
         save, resume = solver_checkpoints(self.name, checkpoint, resume)
         ds = solve_multiplier(u0, until, rate, g, self.fourier.speed, self.epsilon, self.nu, local_input=a,

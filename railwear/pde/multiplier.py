@@ -30,7 +30,7 @@ from functools import cached_property
 
 import numpy as np
 
-from railwear.errors import ResolutionWarning, ScenarioError
+from railwear.errors import ResolutionWarning, ScenarioError, start_past_limit
 from railwear.pde.equation import EvolutionEquation
 from railwear.pde.evolution import to_dataset
 from railwear.pde.forms import BuiltinRate, Cubic, Pointwise
@@ -217,8 +217,7 @@ def _stop_at_peak_to_peak(equation, solver, t_end, limit, progress, checkpoint, 
         raise ScenarioError("peak_to_peak_limit: the stop at a peak-to-peak limit takes one row")
     n = equation.n
     if np.ptp(equation.u0[0]) >= limit:
-        raise ScenarioError(f"peak_to_peak_limit: the wheel starts {np.ptp(equation.u0[0]):.4g} m out of round, "
-                            f"at or above the limit {limit:.4g} m")
+        raise start_past_limit("peak_to_peak_limit", np.ptp(equation.u0[0]), limit)
 
     def watch(state):
         if _peak_to_peak(state.spectra[0], n) >= limit:
