@@ -55,3 +55,37 @@ def killed_after(k, saved):
         if len(saved) == k:
             raise Killed
     return keep
+
+
+COMPILE_COUNTER = """
+import json
+import numpy as np
+from numba.core import event
+from numba.core.dispatcher import Dispatcher
+
+compiled = []
+
+class Count(event.Listener):
+    def on_start(self, ev):
+        compiled.append(getattr(ev.data.get("dispatcher"), "__name__", "?"))
+
+    def on_end(self, ev):  # numba's listeners must have it; only the starts are counted
+        return None
+
+event.register("numba:compile", Count())
+"""
+
+
+def cold_probe(body, cache_dir):
+    """Run ``body`` after :data:`COMPILE_COUNTER` in a fresh interpreter with an empty numba cache
+    at ``cache_dir``; ``body`` prints one JSON line last (``compiled``: the kernels whose compile
+    started, in order), returned parsed."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir))
+    done = subprocess.run([sys.executable, "-c", COMPILE_COUNTER + body], env=env, capture_output=True,
+                          text=True, check=True)
+    return json.loads(done.stdout.splitlines()[-1])

@@ -3,32 +3,13 @@
 
 Not timing tests: they check what a first run types or compiles."""
 
-import json
-import os
-import subprocess
-import sys
-
 import numba
 import numpy as np
+from helpers import cold_probe
 
 from railwear.pde import Cubic, solve_evolution, solver
 
 PROBE = """
-import json
-import numpy as np
-from numba.core import event
-from numba.core.dispatcher import Dispatcher
-
-compiled = []
-
-class Count(event.Listener):
-    def on_start(self, ev):
-        compiled.append(getattr(ev.data.get("dispatcher"), "__name__", "?"))
-
-    def on_end(self, ev):  # numba's listeners must have it; only the starts are counted
-        return None
-
-event.register("numba:compile", Count())
 from railwear.contact import contact_constants, flexibilities, kalker_coefficients, linear_creep_forces
 from railwear.contact import kalker
 
@@ -44,9 +25,7 @@ print(json.dumps({"compiled": compiled, "dispatchers": dispatchers, "finite": bo
 def test_kalkers_coefficients_compile_nothing(tmp_path):
     """Kalker's coefficients (every command builds a contact) are numpy: a cold call compiles no
     kernel (main compiled them, 2-3 s of every first run)."""
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
-    done = subprocess.run([sys.executable, "-c", PROBE], env=env, capture_output=True, text=True, check=True)
-    result = json.loads(done.stdout.splitlines()[-1])
+    result = cold_probe(PROBE, tmp_path / "cache")
     assert result["finite"]
     assert result["dispatchers"] == []
     assert result["compiled"] == []

@@ -4,27 +4,9 @@ Not a timing test: it counts what a first table build types, in a fresh process 
 numba cache. numba compiles a callee once per value of a constant integer or boolean argument,
 so a wheel side or a flag passed as a literal doubles the kernels behind it."""
 
-import json
-import os
-import subprocess
-import sys
+from helpers import cold_probe
 
 PROBE = """
-import json
-import numpy as np
-from numba.core import event
-from numba.core.dispatcher import Dispatcher
-
-compiled = []
-
-class Count(event.Listener):
-    def on_start(self, ev):
-        compiled.append(getattr(ev.data.get("dispatcher"), "__name__", "?"))
-
-    def on_end(self, ev):  # numba's listeners must have it; only the starts are counted
-        return None
-
-event.register("numba:compile", Count())
 from railwear.geometry import contact_geometry, contact_table, load_profile
 
 wheel, rail = load_profile("S1002"), load_profile("UIC60")
@@ -39,9 +21,7 @@ print(json.dumps({"compiled": compiled, "kernels": kernels,
 
 
 def test_a_cold_table_compiles_each_kernel_once(tmp_path):
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
-    done = subprocess.run([sys.executable, "-c", PROBE], env=env, capture_output=True, text=True, check=True)
-    result = json.loads(done.stdout.splitlines()[-1])
+    result = cold_probe(PROBE, tmp_path / "cache")
     ours = {name: count for name, count in result["kernels"].items() if count}
     assert "_table_core" in ours and "_solve_roll" in ours
     assert ours == dict.fromkeys(ours, 1)  # main typed _minima 4 times, _spline and _contact_point 3, _refine 2

@@ -4,26 +4,9 @@ Not a timing test: it counts what a first deposit types, in a fresh process with
 cache. The angle is periodic and the lateral grid bounded; passed as literal booleans, the two
 flags typed ``_overlaps`` twice."""
 
-import json
-import os
-import subprocess
-import sys
+from helpers import cold_probe
 
 PROBE = """
-import json
-import numpy as np
-from numba.core import event
-
-compiled = []
-
-class Count(event.Listener):
-    def on_start(self, ev):
-        compiled.append(getattr(ev.data.get("dispatcher"), "__name__", "?"))
-
-    def on_end(self, ev):  # numba's listeners must have it; only the starts are counted
-        return None
-
-event.register("numba:compile", Count())
 from railwear.geometry import wear_surface
 
 w = wear_surface.WearSurface(0.46, 120, np.linspace(-0.02, 0.02, 5))
@@ -35,9 +18,7 @@ print(json.dumps({"compiled": compiled, "added": added, "removed": w.removed_vol
 
 
 def test_a_cold_deposit_compiles_the_overlaps_once(tmp_path):
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
-    done = subprocess.run([sys.executable, "-c", PROBE], env=env, capture_output=True, text=True, check=True)
-    result = json.loads(done.stdout.splitlines()[-1])
+    result = cold_probe(PROBE, tmp_path / "cache")
     assert result["compiled"].count("deposit_rectangles") == 1
     assert result["overlaps"] == 1 and result["compiled"].count("_overlaps") == 1  # twice before issue 23
     # the deposit is a real one: the patch reaching past the lateral edge is moved inside whole, the one
