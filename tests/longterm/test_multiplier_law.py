@@ -34,7 +34,8 @@ def test_from_fourier_is_the_fourier_technique_on_the_vehicle_track_model():
     np.testing.assert_allclose(law.time.values, reference.time.values, rtol=1e-12)
     scale = np.max(np.abs(shape(reference.u.values)))
     np.testing.assert_allclose(shape(law.u.values), shape(reference.u.values), rtol=0, atol=1e-9 * scale)
-    np.testing.assert_allclose(law.u.values.mean(axis=1), reference.u.values.mean(axis=1), rtol=1e-9)
+    mean = reference.u.values.mean(axis=1)  # the start's mean is round-off (1e-20 m): held on the run's scale
+    np.testing.assert_allclose(law.u.values.mean(axis=1), mean, rtol=1e-9, atol=1e-12 * np.max(np.abs(mean)))
 
 
 def test_from_model_gives_the_fourier_growth_in_the_linear_limit():
