@@ -36,8 +36,8 @@ from numba import literally, njit
 from numba.core import types
 from numba.extending import overload
 
-from railwear.dynamics.kernels import (ByLiteral, contact_power, event_call, patch_half_angle, rhs_call, rhs_inline, sweep,
-                                       switching_inline)
+from railwear.dynamics.kernels import (ByLiteral, contact_power, event_call, model_has, patch_half_angle, rhs_call,
+                                       rhs_inline, sweep, switching_inline)
 
 METHOD_DOPRI5 = 0
 METHOD_ROSENBROCK = 1
@@ -538,7 +538,8 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
     """Integrate model ``kind`` from ``t0`` to ``t_end``.
 
     ``energy`` (one value per wheel cell, or empty for none): the frictional energy of the run
-    [J] is added to it, cell by cell, as the contact patch passes (disk wheel).
+    [J] is added to it, cell by cell, as the contact patch passes (disk wheel; other models leave
+    it).
     Returns ``(ts, ys, n_out, status, t_last, y_last, stats, event_t, event_y, event_dir)``:
     output times and states (first ``n_out`` rows), a status code (``STATUS_*``), the last
     accepted time and state, counters (``STAT_*``) and the located events (direction +1 when
@@ -556,16 +557,21 @@ def _integrate(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_
     literally(method)
     return _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events,
                  max_norm, energy, cut_at_switches, clock, _method_is(method, METHOD_ROSENBROCK),
-                 _method_is(method, METHOD_DOP853))
+                 _method_is(method, METHOD_DOP853), model_has(kind, "cells"),
+                 model_has(kind, "events"), model_has(kind, "switches"))
 
 
 @njit(cache=True, nogil=True)
 def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps, t_eval, every, use_events, max_norm,
-          energy, cut_at_switches, clock, implicit, eighth):
+          energy, cut_at_switches, clock, implicit, eighth, cells, events, switches):
     """The loop of ``_integrate``. ``implicit``: True for the Rosenbrock method, else None;
-    ``eighth``: True for DOP853, else None. numba prunes a branch on an argument that is None when
-    the function is typed (never on a constant's value), so a DOPRI5 loop compiles neither the
-    Rosenbrock step and Jacobian nor DOP853's stages and error measure."""
+    ``eighth``: True for DOP853, else None; ``cells``, ``events``, ``switches``: True where the
+    model has a contact power on the wheel's cells, an event function, a switching function
+    (``kernels.model_has``), else None: ``energy`` is then not touched, and there is no event and
+    no switch to cut a step at, as with their constant functions. numba prunes a branch on an
+    argument that is None when the function is typed (never on a constant's value), so a DOPRI5
+    loop compiles neither the Rosenbrock step and Jacobian nor DOP853's stages and error measure,
+    nor a model's missing parts."""
     literally(kind)
     literally(method)
     n = y0.shape[0]
@@ -647,7 +653,10 @@ def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps
         h = min(100.0 * h, h1)
     h = min(h, h_max, span)
 
-    g_old = event_call(kind, t, y, p, surf) if use_events else 1.0
+    g_old = 1.0
+    if events is not None:
+        if use_events:
+            g_old = event_call(kind, t, y, p, surf)
     status = STATUS_OK
     jac_fresh = False
     fac_max = 5.0
@@ -697,19 +706,20 @@ def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps
             en = _error_norm(err, y, ynew, rtol, atol)
         if en > 1.0:
             stats[STAT_NREJECT] += 1
-            if cut_at_switches and cuts < 2:
-                g_a = switching_inline(kind, t, y, p, surf)
-                g_b = switching_inline(kind, t + h, ynew, p, surf)
-                if (g_a > 0.0) != (g_b > 0.0) and g_a != 0.0 and g_b != 0.0:
-                    # a kink inside: retry up to just past it, then go on with this step size
-                    _hermite(y, ynew, f0, fnew, h, q)
-                    s_cut = _locate_event(kind, p, surf, t, y, h, q, g_a, g_b, tmp, np.bool_(True))
-                    if s_cut > 1e-3:
-                        if cuts == 0:
-                            h_resume = h
-                        cuts += 1
-                        h *= s_cut
-                        continue
+            if switches is not None:
+                if cut_at_switches and cuts < 2:
+                    g_a = switching_inline(kind, t, y, p, surf)
+                    g_b = switching_inline(kind, t + h, ynew, p, surf)
+                    if (g_a > 0.0) != (g_b > 0.0) and g_a != 0.0 and g_b != 0.0:
+                        # a kink inside: retry up to just past it, then go on with this step size
+                        _hermite(y, ynew, f0, fnew, h, q)
+                        s_cut = _locate_event(kind, p, surf, t, y, h, q, g_a, g_b, tmp, np.bool_(True))
+                        if s_cut > 1e-3:
+                            if cuts == 0:
+                                h_resume = h
+                            cuts += 1
+                            h *= s_cut
+                            continue
             h *= max(0.2, 0.9 * en ** (-1.0 / order))
             fac_max = 1.0
             continue
@@ -720,22 +730,23 @@ def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps
         s_end = 1.0
         hit = 0
         q_ready = method == METHOD_ROSENBROCK
-        if use_events:
-            g_new = event_call(kind, t_new, ynew, p, surf)
-            if (g_new > 0.0) != (g_old > 0.0) and g_new != 0.0:
-                if not q_ready:
-                    stats[STAT_NFEV] += _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r)
-                    q_ready = True
-                s_end = _locate_event(kind, p, surf, t, y, h, q, g_old, g_new, tmp, np.bool_(False))
-                hit = 1 if g_new > 0.0 else -1
-                if s_end < 1.0:
-                    t_new = t + s_end * h
-                    _dense(y, h, q, s_end, ynew)
-                    rhs_call(kind, t_new, ynew, p, surf, fnew)
-                    stats[STAT_NFEV] += 1
-                    last = False
+        if events is not None:
+            if use_events:
                 g_new = event_call(kind, t_new, ynew, p, surf)
-            g_old = g_new
+                if (g_new > 0.0) != (g_old > 0.0) and g_new != 0.0:
+                    if not q_ready:
+                        stats[STAT_NFEV] += _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r)
+                        q_ready = True
+                    s_end = _locate_event(kind, p, surf, t, y, h, q, g_old, g_new, tmp, np.bool_(False))
+                    hit = 1 if g_new > 0.0 else -1
+                    if s_end < 1.0:
+                        t_new = t + s_end * h
+                        _dense(y, h, q, s_end, ynew)
+                        rhs_call(kind, t_new, ynew, p, surf, fnew)
+                        stats[STAT_NFEV] += 1
+                        last = False
+                    g_new = event_call(kind, t_new, ynew, p, surf)
+                g_old = g_new
         bad = False
         for i in range(n):
             if abs(ynew[i]) > max_norm:
@@ -756,11 +767,12 @@ def _loop(kind, p, surf, y0, t0, t_end, rtol, atol, method, h0, h_max, max_steps
             _copy(ev_y[n_ev], ynew)
             ev_dir[n_ev] = hit
             n_ev += 1
-        if energy.shape[0] > 0:
-            if not q_ready:
-                stats[STAT_NFEV] += _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r)
-                q_ready = True
-            _deposit_step(kind, p, surf, t, y, h, q, s_end, energy, tmp)
+        if cells is not None:
+            if energy.shape[0] > 0:
+                if not q_ready:
+                    stats[STAT_NFEV] += _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r)
+                    q_ready = True
+                _deposit_step(kind, p, surf, t, y, h, q, s_end, energy, tmp)
         if dense_mode:
             if not q_ready and i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
                 stats[STAT_NFEV] += _explicit_dense(method, kind, p, surf, t, y, h, ynew, k, q, tmp, r)

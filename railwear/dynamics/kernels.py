@@ -31,6 +31,8 @@ KIND_BOGIE = 4
 KIND_TABLE_WHEELSET = 5
 KIND_TABLE_BOGIE = 6  # the bogie's parameters (BG_*) followed by a table wheelset's (TW_*, offset BG_N_PARAMS)
 KIND_COOPERRIDER = 7  # the published Cooperrider bogie with frame roll (CP_*; railwear.dynamics.cooperrider)
+KIND_TABLE_POINTS = 8  # the table wheelset (TW_*) on a table with contacts of their own (TW_N_CONTACTS > 0);
+# KIND_TABLE_WHEELSET is the same model on the per-wheel resultant only, compiled without the contacts' path
 
 # ---- wheelset parameters --------------------------------------------------------------------
 WS_SPEED = 0
@@ -504,15 +506,16 @@ def _radius_ratio(surf, n, j, w):
 
 
 @njit(cache=True)
-def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
+def _table_forces(lat, yaw, vlat, vyaw, p, o, surf, points=True):
     """Contact forces on a wheelset on real profiles (no suspension): ``(lateral force, yaw
     moment, power left, power right, lateral component of the normal forces)``. With
     ``TW_N_CONTACTS = 0`` each wheel's resultant contact (``_table_wheel``), else each of its
     contacts on its own (``_table_point``), their forces summed in the order of the contacts (one
-    loaded contact per wheel gives the resultant's numbers to the bit)."""
+    loaded contact per wheel gives the resultant's numbers to the bit). ``points``: None for a
+    table without contacts of its own (``KIND_TABLE_WHEELSET``): numba then prunes the contacts'
+    path, strip-wise FASTSIM with it, when it compiles the caller."""
     n, j, w = _table_node(p, o, lat)
     ratio, radii = _radius_ratio(surf, n, j, w)
-    contacts = int(p[o + TW_N_CONTACTS])
     force = 0.0
     moment = 0.0
     normal_lateral = 0.0
@@ -520,27 +523,31 @@ def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
     power_right = 0.0
     for side in range(2):
         sign = 1.0 - 2.0 * side
-        if contacts == 0:
+        resultant = True
+        if points is not None:
+            contacts = int(p[o + TW_N_CONTACTS])
+            if contacts > 0:
+                resultant = False
+                power = 0.0
+                r_wheel = _table_value(surf, n, j, w, side, 0)
+                for point in range(contacts):
+                    _, _, _, fx, fy, mz, pw, normal, delta, _, lever = _table_point(side, point, yaw, vlat, vyaw, p,
+                                                                                    o, surf, n, j, w, contacts, ratio,
+                                                                                    r_wheel, radii, None)
+                    if not normal > 0.0:
+                        continue
+                    cosd = math.cos(delta)
+                    normal_lateral -= sign * normal * math.sin(delta)
+                    force += fy * cosd
+                    moment += mz * cosd - sign * lever * fx
+                    power += pw
+        if resultant:
             _, _, _, fx, fy, mz, power, normal, delta = _table_wheel(side, yaw, vlat, vyaw, p, o, surf, n, j, w, ratio)
             cosd = math.cos(delta)
             # the normal force leans towards the track centre by the contact angle
             normal_lateral -= sign * normal * math.sin(delta)
             force += fy * cosd
             moment += mz * cosd - sign * p[o + TW_HALF_GAUGE] * fx
-        else:
-            power = 0.0
-            r_wheel = _table_value(surf, n, j, w, side, 0)
-            for point in range(contacts):
-                _, _, _, fx, fy, mz, pw, normal, delta, _, lever = _table_point(side, point, yaw, vlat, vyaw, p, o,
-                                                                                surf, n, j, w, contacts, ratio,
-                                                                                r_wheel, radii, None)
-                if not normal > 0.0:
-                    continue
-                cosd = math.cos(delta)
-                normal_lateral -= sign * normal * math.sin(delta)
-                force += fy * cosd
-                moment += mz * cosd - sign * lever * fx
-                power += pw
         if side == 0:
             power_left = power
         else:
@@ -555,12 +562,12 @@ def _table_forces(lat, yaw, vlat, vyaw, p, o, surf):
 
 
 @njit(cache=True)
-def table_wheelset_rhs(t, y, p, surf, dydt):
+def table_wheelset_rhs(t, y, p, surf, dydt, points=True):
     """Wheelset on real profiles, state ``[y, psi, y', psi']`` (``y`` to the left): rolling radii,
     contact angles, normal loads and Kalker coefficients from the contact table at ``y``; the
     lateral components of the normal forces give the gravitational stiffness and, in flange
-    contact, the flange force."""
-    force, moment, _, _, _ = _table_forces(y[0], y[1], y[2], y[3], p, 0, surf)
+    contact, the flange force. ``points``: as ``_table_forces``."""
+    force, moment, _, _, _ = _table_forces(y[0], y[1], y[2], y[3], p, 0, surf, points)
     dydt[0] = y[2]
     dydt[1] = y[3]
     dydt[2] = (force - p[TW_LATERAL_STIFFNESS] * y[0] - p[TW_LATERAL_DAMPING] * y[2]) / p[TW_MASS]
@@ -568,30 +575,31 @@ def table_wheelset_rhs(t, y, p, surf, dydt):
 
 
 @njit(cache=True)
-def table_wheelset_outputs(t, y, p, surf, out):
+def table_wheelset_outputs(t, y, p, surf, out, points=True):
     """Outputs: per wheel (left 0-7, right 8-15) ``xi, eta, phi, Fx, Feta, Mz, power, N``;
     16 rolling radius difference left - right; 17, 18 contact position on the left and right
     wheel profile; 19 contact angle on the wheel ``x = 2 V t / (r_L + r_R) mod 2 pi``. With
     several contacts per wheel (``TW_N_CONTACTS > 0``) ``Fx, Feta, Mz, power`` are the sums over
     the wheel's contacts (``_table_point``); the creepages, ``N`` and the position stay the
-    resultant's (the table's per-wheel columns)."""
+    resultant's (the table's per-wheel columns). ``points``: as ``_table_forces``."""
     n, j, w = _table_node(p, 0, y[0])
     ratio, radii = _radius_ratio(surf, n, j, w)
-    contacts = int(p[TW_N_CONTACTS])
     for side in range(2):
         vals = _table_wheel(side, y[1], y[2], y[3], p, 0, surf, n, j, w, ratio)
         for k in range(8):
             out[8 * side + k] = vals[k]
-        if contacts > 0:
-            r_wheel = _table_value(surf, n, j, w, side, 0)
-            for k in range(3, 7):
-                out[8 * side + k] = 0.0
-            for point in range(contacts):
-                pv = _table_point(side, point, y[1], y[2], y[3], p, 0, surf, n, j, w, contacts, ratio, r_wheel, radii,
-                                  None)
-                if pv[7] > 0.0:
-                    for k in range(3, 7):
-                        out[8 * side + k] += pv[k]
+        if points is not None:
+            contacts = int(p[TW_N_CONTACTS])
+            if contacts > 0:
+                r_wheel = _table_value(surf, n, j, w, side, 0)
+                for k in range(3, 7):
+                    out[8 * side + k] = 0.0
+                for point in range(contacts):
+                    pv = _table_point(side, point, y[1], y[2], y[3], p, 0, surf, n, j, w, contacts, ratio, r_wheel,
+                                      radii, None)
+                    if pv[7] > 0.0:
+                        for k in range(3, 7):
+                            out[8 * side + k] += pv[k]
     out[16] = -ratio * radii
     out[17] = _table_value(surf, n, j, w, 0, 7)
     out[18] = _table_value(surf, n, j, w, 1, 7)
@@ -1002,12 +1010,33 @@ def contact_power(kind, t, y, p, surf):
 def _contact_power(kind, t, y, p, surf):
     if not isinstance(kind, types.IntegerLiteral):
         return None
-    if kind.literal_value == KIND_DISK_WHEEL:
+    if kind.literal_value == KIND_DISK_WHEEL:  # _PARTS["cells"]
         def impl(kind, t, y, p, surf):
             power = disk_contact(t, y, p, surf)[3]
             return p[DW_INITIAL_ANGLE] + p[DW_SPEED] / p[DW_RADIUS] * t + y[0], power
         return impl
     return lambda kind, t, y, p, surf: (0.0, 0.0)
+
+
+def model_has(kind, part):
+    """True where model ``kind`` has ``part`` (a constant string: "cells", a contact power deposited
+    on the wheel's cells; "events", an event function; "switches", a switching function), None
+    where it has not (its ``contact_power`` is 0, its event or switching function the constant 1):
+    an argument on which numba prunes that part from the integrator's loop. Compiled code only."""
+    raise TypeError("model_has is for compiled code")
+
+
+_PARTS = {"cells": (KIND_DISK_WHEEL,), "events": (KIND_DISK_WHEEL,),
+          "switches": (KIND_WHEELSET, KIND_BOGIE, KIND_COOPERRIDER)}
+
+
+@overload(model_has, inline="always", prefer_literal=True)
+def _model_has(kind, part):
+    if not (isinstance(kind, types.IntegerLiteral) and isinstance(part, types.StringLiteral)):
+        return None
+    if kind.literal_value in _PARTS[part.literal_value]:
+        return lambda kind, part: True
+    return lambda kind, part: None
 
 
 def patch_half_angle(kind, p):
@@ -1074,7 +1103,8 @@ _RHS = {
     KIND_DISK_WHEEL: lambda kind, t, y, p, surf, dydt: disk_wheel_rhs(t, y, p, surf, dydt),
     KIND_BOGIE: lambda kind, t, y, p, surf, dydt: bogie_rhs(t, y, p, surf, dydt, False),
     KIND_TABLE_BOGIE: lambda kind, t, y, p, surf, dydt: bogie_rhs(t, y, p, surf, dydt, True),
-    KIND_TABLE_WHEELSET: lambda kind, t, y, p, surf, dydt: table_wheelset_rhs(t, y, p, surf, dydt),
+    KIND_TABLE_WHEELSET: lambda kind, t, y, p, surf, dydt: table_wheelset_rhs(t, y, p, surf, dydt, None),
+    KIND_TABLE_POINTS: lambda kind, t, y, p, surf, dydt: table_wheelset_rhs(t, y, p, surf, dydt, True),
     KIND_COOPERRIDER: lambda kind, t, y, p, surf, dydt: cooperrider_rhs(t, y, p, surf, dydt),
     KIND_LINEAR: lambda kind, t, y, p, surf, dydt: linear_rhs(t, y, p, surf, dydt),
     KIND_VAN_DER_POL: lambda kind, t, y, p, surf, dydt: van_der_pol_rhs(t, y, p, surf, dydt),
@@ -1102,7 +1132,7 @@ def event_inline(kind, t, y, p, surf):
 @overload(event_inline, prefer_literal=True)  # a call (inlined, numba's SSA check warns)
 def _event_inline(kind, t, y, p, surf):
     value = _literal_kind(kind)
-    if value == KIND_DISK_WHEEL:
+    if value == KIND_DISK_WHEEL:  # _PARTS["events"]
         return lambda kind, t, y, p, surf: disk_wheel_event(t, y, p, surf)
     if value is not None:
         return lambda kind, t, y, p, surf: 1.0
@@ -1126,7 +1156,7 @@ def switching_inline(kind, t, y, p, surf):
 
 
 @overload(switching_inline, prefer_literal=True)  # a call: only rejected steps ask
-def _switching_inline(kind, t, y, p, surf):
+def _switching_inline(kind, t, y, p, surf):  # the kinds of _PARTS["switches"]
     value = _literal_kind(kind)
     if value == KIND_WHEELSET:
         return lambda kind, t, y, p, surf: abs(y[0] - _track_alignment(t, p, surf)) - p[WS_FLANGE_CLEARANCE]
@@ -1155,7 +1185,8 @@ _OUTPUTS = {
     KIND_DISK_WHEEL: lambda kind, t, y, p, surf, out: disk_wheel_outputs(t, y, p, surf, out),
     KIND_BOGIE: lambda kind, t, y, p, surf, out: bogie_outputs(False, y, p, surf, out),
     KIND_TABLE_BOGIE: lambda kind, t, y, p, surf, out: bogie_outputs(True, y, p, surf, out),
-    KIND_TABLE_WHEELSET: lambda kind, t, y, p, surf, out: table_wheelset_outputs(t, y, p, surf, out),
+    KIND_TABLE_WHEELSET: lambda kind, t, y, p, surf, out: table_wheelset_outputs(t, y, p, surf, out, None),
+    KIND_TABLE_POINTS: lambda kind, t, y, p, surf, out: table_wheelset_outputs(t, y, p, surf, out, True),
     KIND_COOPERRIDER: lambda kind, t, y, p, surf, out: cooperrider_outputs(y, p, surf, out),
 }
 

@@ -65,7 +65,6 @@ class TableWheelsetModel:
     initial_yaw_rate: float = 0.0
     creep_law: str = "cubic"
 
-    kind = k.KIND_TABLE_WHEELSET
     n_states = 4
     default_atol = 1e-10
 
@@ -83,6 +82,12 @@ class TableWheelsetModel:
 
     def params(self, speed=None) -> np.ndarray:
         return table_params(self, speed)
+
+    @property
+    def kind(self) -> int:
+        """``KIND_TABLE_POINTS`` on a table whose contacts the dynamics follow one by one, else
+        ``KIND_TABLE_WHEELSET``, compiled without that path (the same model)."""
+        return k.KIND_TABLE_POINTS if self.contacts else k.KIND_TABLE_WHEELSET
 
     @property
     def contacts(self) -> int:
