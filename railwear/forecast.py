@@ -336,9 +336,7 @@ def _linear_runs(samples, u0, t_end, progress=None):
             progress((k + 1) / len(samples))
     speeds = [float(sample.operation.speeds) for sample in samples]
     time = runs[0][0]  # every run saves the same normed times; their float values differ in the last bit
-    u = np.empty((len(runs),) + runs[0][1].shape)
-    for k, (_, states) in enumerate(runs):
-        u[k] = states
+    u = np.stack([states for _, states in runs])
     return xr.Dataset({"u": (("speed", "time", "angle"), u)},
                       coords={"speed": speeds, "time": time, "angle": 2 * np.pi * np.arange(u0.size) / u0.size})
 
@@ -359,9 +357,10 @@ def _states(strategy, u0, until):
         speed, life = strategy.fourier.speed, strategy.life_distance
         try:
             ds = strategy.fourier.run(checked_start(u0, until, None), until * life / speed, strategy.n_save)
-            return ds.time.values * speed / life, ds.u.transpose("time", "angle").values
         except NumericalInstabilityError:
-            pass
+            ds = None  # the strategy's own run below reports it, in normed time
+        if ds is not None:
+            return ds.time.values * speed / life, ds.u.transpose("time", "angle").values
     u = strategy.run(u0, until=until).u
     return u.time.values, u.transpose("time", "angle").values
 

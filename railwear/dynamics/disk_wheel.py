@@ -40,7 +40,7 @@ def _bracketed_root(f, a, b, xtol, rtol, maxiter=100):
     inverse quadratic or secant steps, a bisection where they would not shrink the bracket fast
     enough, to ``|x - root| <= xtol + rtol |x|``. Written out so that a steady creepage does not
     import scipy.optimize (0.07-0.16 s of a command's start) for one root; its steps are those of
-    ``scipy.optimize.brentq``, so the root is the same bit for bit (tests/dynamics/test_disk_wheel.py)."""
+    ``scipy.optimize.brentq``, so the root is the same bit for bit (tests/dynamics/test_disk_wheel_interpreted.py)."""
     x_old, x = a, b
     f_old, fx = f(x_old), f(x)
     if f_old == 0.0:
